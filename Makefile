@@ -1,0 +1,62 @@
+# dynamap — top-level wrapper around CMake.
+#
+#   make demo    install what is missing, build, map the bundled rawlog, say where the pictures are
+#   make test    install what is missing, build, run every test (ctest)
+#   make bench   install, build, time dynamap against plain MRPT grid insertion
+#   make deps    only install the Debian packages below (when any is missing)
+#   make build   only configure and build (Release) into build/
+#   make format  apply .clang-format to every source file
+
+# Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
+# keep the install well below the whole libmrpt-dev metapackage.
+DEB_PACKAGES := cmake g++ make \
+  libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
+  libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev \
+  libeigen3-dev libboost-program-options-dev libgtest-dev
+
+BUILD_DIR ?= build
+BUILD_TYPE ?= Release
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+DYNAMAP := $(BUILD_DIR)/dynamap
+DEMO_INPUT ?= rawlogs/demo/demo.rawlog
+DEMO_OUT ?= out/demo
+
+.PHONY: all deps configure build test demo bench format clean
+
+all: build
+
+deps:
+	@missing=""; \
+	for p in $(DEB_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "dynamap: installing Debian packages:$$missing"; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+$(BUILD_DIR)/CMakeCache.txt:
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE)
+
+configure: deps $(BUILD_DIR)/CMakeCache.txt
+
+build: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+test: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+demo: build
+	$(DYNAMAP) map --config config/default.ini --input $(DEMO_INPUT) --out $(DEMO_OUT)
+	@echo "dynamap: pictures in $(DEMO_OUT)/ (static.png, dynamic.png, overlay.png)"
+
+bench: build
+	$(BUILD_DIR)/dynamap_bench $(BENCH_ARGS)
+
+format:
+	clang-format -i $$(git ls-files '*.h' '*.cpp')
+
+clean:
+	rm -rf $(BUILD_DIR) out

@@ -1,0 +1,27 @@
+#pragma once
+// The dynamap subcommands. Each lives in src/app/<name>_command.cpp and receives the arguments
+// after its name. Errors are exceptions, caught once in main().
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dynamap::app {
+
+/// Exit statuses, documented in the README.
+constexpr int kExitOk = 0;
+constexpr int kExitError = 1;         ///< an error while running (I/O, bad input data)
+constexpr int kExitUsage = 2;         ///< bad command line
+constexpr int kExitConfig = 3;        ///< bad configuration or scenario file
+constexpr int kExitPartialInput = 4;  ///< input ended in a fault; outputs cover the good part
+
+using Args = std::vector<std::string>;
+
+int runMap(const Args& args);
+
+/// Thrown for a bad command line; main() prints it with a pointer to --help.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace dynamap::app

@@ -1,0 +1,64 @@
+// dynamap: maps environments in which things move. main() only dispatches to a subcommand and
+// turns exceptions into one-line errors with a documented exit status.
+
+#include <iostream>
+
+#include "commands.h"
+#include "dynamap/config_check.h"
+
+namespace {
+
+struct Command {
+  const char* name;
+  const char* summary;
+  int (*run)(const dynamap::app::Args&);
+};
+
+// One line per subcommand.
+const Command kCommands[] = {
+    {"map", "build the static map, the dynamic map and the object table from a log",
+     dynamap::app::runMap},
+};
+
+void printHelp(std::ostream& out) {
+  out << "dynamap — maps of environments in which things move\n\n"
+         "usage: dynamap <command> [options]     (dynamap <command> --help for its options)\n\n"
+         "commands:\n";
+  for (const auto& c : kCommands) out << "  " << c.name << std::string(16 - std::string(c.name).size(), ' ') << c.summary << "\n";
+  out << "\nexit status: 0 success, 1 error, 2 bad command line, 3 bad configuration,\n"
+         "             4 input ended in a fault (outputs cover the part before it)\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace dynamap::app;
+  if (argc < 2) {
+    printHelp(std::cerr);
+    return kExitUsage;
+  }
+  const std::string name = argv[1];
+  if (name == "--help" || name == "-h" || name == "help") {
+    printHelp(std::cout);
+    return kExitOk;
+  }
+  const Args args(argv + 2, argv + argc);
+  for (const auto& c : kCommands) {
+    if (name != c.name) continue;
+    try {
+      return c.run(args);
+    } catch (const UsageError& e) {
+      std::cerr << "dynamap " << name << ": " << e.what() << " (see dynamap " << name
+                << " --help)\n";
+      return kExitUsage;
+    } catch (const dynamap::ConfigError& e) {
+      std::cerr << "dynamap " << name << ": " << e.what() << "\n";
+      return kExitConfig;
+    } catch (const std::exception& e) {
+      std::cerr << "dynamap " << name << ": " << e.what() << "\n";
+      return kExitError;
+    }
+  }
+  std::cerr << "dynamap: unknown command '" << name << "' (see dynamap --help)\n";
+  return kExitUsage;
+}

@@ -1,0 +1,4 @@
+#include "commands.h"
+namespace dynamap::app {
+int runMap(const Args&) { return kExitError; }
+}  // namespace dynamap::app
