@@ -1,0 +1,228 @@
+// dynamap import-carmen: a CARMEN log to an MRPT rawlog (observations only, gz) that keeps every
+// scan's own timestamp, plus the companion <out>.gt.txt of ground-truth poses.
+
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <boost/program_options.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+
+#include "commands.h"
+#include "dynamap/carmen_reader.h"
+
+namespace dynamap::app {
+
+namespace {
+
+namespace po = boost::program_options;
+
+struct ImportArgs {
+  std::string input, output;
+  CarmenOptions carmen;
+};
+
+/// <out without .gz and .rawlog>.gt.txt: where the rawlog reader looks for ground truth.
+std::string groundTruthPath(std::string out) {
+  for (const std::string ext : {".gz", ".rawlog"}) {
+    if (out.size() > ext.size() && out.compare(out.size() - ext.size(), ext.size(), ext) == 0) {
+      out.resize(out.size() - ext.size());
+    }
+  }
+  return out + ".gt.txt";
+}
+
+po::options_description importOptions() {
+  po::options_description o("dynamap import-carmen IN.log[.gz] --out OUT.rawlog [options]");
+  o.add_options()                             //
+      ("help,h", "print this help and exit")  //
+      ("out,o", po::value<std::string>(),
+       "the MRPT rawlog to write (observations only, gz-compressed). Its ground truth goes to "
+       "<OUT without .rawlog>.gt.txt, one 'timestamp x y phi' line per scan")  //
+      ("fov", po::value<double>(),
+       "field of view of every laser [deg], overriding the PARAM lines and ROBOTLASER1 fields; "
+       "the angular step then follows from the beam count. Default: PARAM "
+       "laser_front_laser_fov, else 180")  //
+      ("skip-bad-lines",
+       "skip malformed lines of known types (counted in the summary) instead of stopping at the "
+       "first one");
+  return o;
+}
+
+ImportArgs parseImportArgs(const Args& args, bool& help) {
+  po::options_description visible = importOptions();
+  po::options_description all = visible;
+  all.add_options()("input", po::value<std::string>());
+  po::positional_options_description positional;
+  positional.add("input", 1);
+  po::variables_map vm;
+  try {
+    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::notify(vm);
+  } catch (const po::error& e) {
+    throw UsageError(e.what());
+  }
+  help = vm.count("help") > 0;
+  if (help) {
+    std::cout
+        << visible << "\n"
+        << "Reads FLASER/RLASER, ROBOTLASER1, ODOM and the laser PARAM lines; each scan keeps "
+           "the log's ipc_timestamp.\nWrites per laser line: CObservationOdometry "
+           "(ODOMETRY, when known), CObservation2DRangeScan (LASER),\n"
+           "CObservationRobotPose (GT); per ODOM line: CObservationOdometry. "
+           "See docs/carmen.md.\n";
+    return {};
+  }
+  ImportArgs a;
+  if (!vm.count("input")) throw UsageError("missing the input CARMEN log");
+  if (!vm.count("out")) throw UsageError("missing --out OUT.rawlog");
+  a.input = vm["input"].as<std::string>();
+  a.output = vm["out"].as<std::string>();
+  if (vm.count("fov")) {
+    a.carmen.fov_deg = vm["fov"].as<double>();
+    if (!(a.carmen.fov_deg > 0 && a.carmen.fov_deg <= 360)) {
+      throw UsageError("--fov must be in (0, 360] degrees");
+    }
+  }
+  a.carmen.skip_bad_lines = vm.count("skip-bad-lines") > 0;
+  return a;
+}
+
+/// The output files under temporary names, renamed into place only when complete.
+class ImportOutput {
+ public:
+  explicit ImportOutput(const std::string& rawlog) : rawlog_(rawlog), gt_(groundTruthPath(rawlog)) {
+    if (!rawlog_out_.open(tmp(rawlog_))) throw InputError(rawlog_ + ": cannot write");
+    gt_out_ = std::fopen(tmp(gt_).c_str(), "w");
+    if (!gt_out_) throw InputError(gt_ + ": cannot write");
+  }
+  ~ImportOutput() {
+    if (gt_out_) std::fclose(gt_out_);
+    if (!committed_) {
+      rawlog_out_.close();
+      std::error_code ec;
+      std::filesystem::remove(tmp(rawlog_), ec);
+      std::filesystem::remove(tmp(gt_), ec);
+    }
+  }
+
+  void write(const mrpt::serialization::CSerializable& obj) {
+    auto arch = mrpt::serialization::archiveFrom(rawlog_out_);
+    arch << obj;
+  }
+  void writeGroundTruth(double t, const mrpt::poses::CPose2D& p) {
+    std::fprintf(gt_out_, "%.6f %.6f %.6f %.6f\n", t, p.x(), p.y(), p.phi());
+  }
+  void commit() {
+    rawlog_out_.close();
+    const bool gt_ok = std::fclose(gt_out_) == 0;
+    gt_out_ = nullptr;
+    if (!gt_ok) throw InputError(gt_ + ": write error");
+    std::filesystem::rename(tmp(rawlog_), rawlog_);
+    std::filesystem::rename(tmp(gt_), gt_);
+    committed_ = true;
+  }
+  const std::string& groundTruthFile() const { return gt_; }
+
+ private:
+  static std::string tmp(const std::string& p) { return p + ".part"; }
+  std::string rawlog_, gt_;
+  mrpt::io::CFileGZOutputStream rawlog_out_;
+  std::FILE* gt_out_ = nullptr;
+  bool committed_ = false;
+};
+
+mrpt::obs::CObservationOdometry odometryObservation(const CarmenEvent& e) {
+  mrpt::obs::CObservationOdometry odo;
+  odo.sensorLabel = "ODOMETRY";
+  odo.timestamp = mrpt::Clock::fromDouble(e.t);
+  odo.odometry = *e.odometry;
+  if (e.kind == CarmenEvent::Kind::Odometry) {
+    odo.hasVelocities = true;
+    odo.velocityLocal = mrpt::math::TTwist2D(e.tv, 0, e.rv);
+  }
+  return odo;
+}
+
+mrpt::obs::CObservationRobotPose groundTruthObservation(const CarmenEvent& e) {
+  mrpt::obs::CObservationRobotPose gt;
+  gt.sensorLabel = "GT";
+  gt.timestamp = mrpt::Clock::fromDouble(e.t);
+  gt.pose.mean = mrpt::poses::CPose3D(e.pose);
+  return gt;
+}
+
+/// What the summary reports beyond the reader's own counts.
+struct ImportTally {
+  std::size_t odometry = 0;
+  std::optional<double> t_first, t_last;
+  std::size_t beams = 0;
+  double aperture_deg = 0;
+};
+
+void printSummary(const ImportArgs& a, const SourceStats& s, const ImportTally& tally,
+                  const std::string& gt_file) {
+  std::cout << "import-carmen: " << a.input << "\n"
+            << "  lines read:  " << s.records << "\n"
+            << "  scans:       " << s.scans << " (the first: " << tally.beams << " beams, "
+            << tally.aperture_deg / (tally.beams - 1) << " deg apart, aperture "
+            << tally.aperture_deg << " deg)\n"
+            << "  odometry:    " << tally.odometry << " ODOM lines\n";
+  if (tally.t_first) {
+    char span[128];
+    std::snprintf(span, sizeof span, "%.6f .. %.6f (%.1f s)", *tally.t_first, *tally.t_last,
+                  *tally.t_last - *tally.t_first);
+    std::cout << "  time:        " << span << "\n";
+  }
+  const auto bad = s.skipped.find("bad line");
+  std::cout << "  bad lines:   " << (bad == s.skipped.end() ? 0 : bad->second) << "\n";
+  for (const auto& [reason, n] : s.skipped) {
+    if (reason != "bad line") std::cout << "  skipped:     " << n << " " << reason << "\n";
+  }
+  std::cout << "wrote " << a.output << " and " << gt_file << "\n";
+}
+
+}  // namespace
+
+int runImportCarmen(const Args& args) {
+  bool help = false;
+  const ImportArgs a = parseImportArgs(args, help);
+  if (help) return kExitOk;
+
+  CarmenReader reader(a.input, a.carmen);
+  ImportOutput out(a.output);
+  ImportTally tally;
+  CarmenEvent e;
+  while (reader.next(e)) {
+    if (e.kind == CarmenEvent::Kind::Odometry) {
+      out.write(odometryObservation(e));
+      ++tally.odometry;
+      continue;
+    }
+    if (!tally.t_first) {
+      tally.t_first = e.t;
+      tally.beams = e.scan->getScanSize();
+      tally.aperture_deg = e.scan->aperture * 180.0 / M_PI;
+    }
+    tally.t_last = e.t;
+    if (e.odometry) out.write(odometryObservation(e));
+    out.write(*e.scan);
+    out.write(groundTruthObservation(e));
+    out.writeGroundTruth(e.t, e.pose);
+  }
+  if (reader.stats().scans == 0) {
+    throw InputError(a.input + ": no laser lines (FLASER, RLASER, ROBOTLASER1) in the log");
+  }
+  out.commit();
+  printSummary(a, reader.stats(), tally, out.groundTruthFile());
+  return kExitOk;
+}
+
+}  // namespace dynamap::app
