@@ -1,0 +1,90 @@
+#pragma once
+// A simulation scenario: the world, the robot's route, its laser and odometry, the movable
+// objects with their moves and the walking people. loadScenario() reads the ini format of
+// docs/scenario_format.md and validates it completely; everything downstream may trust it.
+// Every error is a dynamap::ConfigError naming the file, the section and the key.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dynamap/config_check.h"
+#include "dynamap/sim/world.h"
+
+namespace dynamap::sim {
+
+struct RobotSpec {
+  std::vector<Vec2> waypoints;  ///< driven in order, starting at the first
+  bool loop = true;             ///< after the last, back to the first and again
+  double speed_mps = 0.4;       ///< m/s along straight legs
+  double turn_rate_dps = 45;    ///< deg/s, turning in place at each waypoint
+  double scan_rate_hz = 5;      ///< scans per second (one ODOMETRY, LASER, GT triple each)
+};
+
+struct LaserSpec {
+  int beams = 361;
+  double fov_deg = 180;
+  double max_range_m = 8;
+  double range_noise_std_m = 0.01;
+  Vec2 mount;                ///< x y of the sensor on the robot, metres
+  double mount_yaw_deg = 0;  ///< sensor heading on the robot
+};
+
+struct OdometrySpec {
+  double noise_xy_per_m = 0;     ///< std (m) of each translation error component per metre driven
+  double noise_yaw_per_rad = 0;  ///< std (rad) of heading error per radian turned
+};
+
+struct ObjectSpec {
+  int id = 0;  ///< the n of object.<n>
+  double diameter = 0;
+  Vec2 start;
+};
+
+struct MoveSpec {
+  int id = 0;  ///< the n of move.<n>
+  int object_id = 0;
+  double t_start = 0;
+  Vec2 to;
+  double duration = 0;  ///< 0: the object is at `to` at once
+  double tEnd() const { return t_start + duration; }
+};
+
+struct PersonSpec {
+  int id = 0;  ///< the n of person.<n>
+  double diameter = 0;
+  double speed_mps = 0;
+  std::vector<Vec2> path;  ///< walked to its end and back, for the whole run
+};
+
+struct Scenario {
+  std::string file;  ///< where it was read from (for messages)
+  std::string name;  ///< names the output files; letters, digits, '_' and '-'
+  double duration_s = 0;
+  std::uint64_t seed = 0;
+  StaticWorld world;
+  std::vector<std::string> wall_keys;  ///< wall.<n> of each world.segments entry
+  std::string map_image;               ///< resolved path, empty if none
+  RobotSpec robot;
+  LaserSpec laser;
+  OdometrySpec odometry;
+  std::vector<ObjectSpec> objects;  ///< by id
+  std::vector<MoveSpec> moves;      ///< by t_start, then id
+  std::vector<PersonSpec> people;   ///< by id
+};
+
+/// Reads and validates the scenario file at `path`.
+Scenario loadScenario(const std::string& path);
+/// Reads and validates `ini`; a map_image is looked up relative to `base_dir`.
+Scenario parseScenario(const IniFile& ini, const std::string& base_dir);
+
+/// Where object `index` (into scenario.objects) is at time t, moves applied.
+Vec2 objectPositionAt(const Scenario& scenario, std::size_t index, double t);
+/// Where the object of move m stands when the move begins.
+Vec2 moveOrigin(const Scenario& scenario, const MoveSpec& m);
+/// Where a person is at time t (walking the path to its end and back).
+Vec2 personPositionAt(const PersonSpec& person, double t);
+/// Every object and person as a laser target at time t: objects first (by id), then people.
+std::vector<Body> bodiesAt(const Scenario& scenario, double t);
+
+}  // namespace dynamap::sim
