@@ -18,7 +18,6 @@ constexpr int kExitPartialInput = 4;  ///< input ended in a fault; outputs cover
 using Args = std::vector<std::string>;
 
 int runMap(const Args& args);
-int runImportCarmen(const Args& args);
 int runSimulate(const Args& args);
 int runImportCarmen(const Args& args);
 

@@ -18,8 +18,6 @@ struct Command {
 const Command kCommands[] = {
     {"map", "build the static map, the dynamic map and the object table from a log",
      dynamap::app::runMap},
-    {"import-carmen", "convert a CARMEN log (.log[.gz]) to an MRPT rawlog with its timestamps",
-     dynamap::app::runImportCarmen},
     {"simulate", "run a scenario file: a rawlog with exact ground truth", dynamap::app::runSimulate},
     {"import-carmen", "convert a CARMEN log (.log[.gz]) to an MRPT rawlog with its timestamps",
      dynamap::app::runImportCarmen},
