@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <set>
 
 #include "dynamap/config_check.h"
@@ -365,8 +366,17 @@ struct CarmenReader::LineInput {
 
 CarmenReader::CarmenReader(const std::string& path, const CarmenOptions& options)
     : path_(path), options_(options), input_(std::make_unique<LineInput>()) {
+  // MRPT throws (with a backtrace) for a missing file: say it plainly instead.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
   std::string error;
-  if (!input_->in.open(path, error)) throw InputError(path + ": cannot open (" + error + ")");
+  bool opened = false;
+  try {
+    opened = input_->in.open(path, error);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  if (!opened) throw InputError(path + ": cannot open (" + error + ")");
 }
 
 CarmenReader::~CarmenReader() = default;
@@ -446,6 +456,8 @@ bool CarmenReader::handleLine(const std::string& line, CarmenEvent& out) {
 bool looksLikeCarmen(const std::string& path) {
   std::string head(kReadBlock, '\0');
   try {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;
     mrpt::io::CFileGZInputStream in;
     if (!in.open(path)) return false;
     head.resize(in.Read(head.data(), head.size()));

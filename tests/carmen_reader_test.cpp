@@ -287,6 +287,16 @@ TEST_F(CarmenTest, OverlongLineIsAnErrorNamingIt) {
   }
 }
 
+TEST_F(CarmenTest, MissingFileIsAnInputErrorNamingIt) {
+  const std::string path = (dir_ / "missing.log").string();
+  try {
+    CarmenReader reader(path, {});
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": no such file");
+  }
+}
+
 TEST_F(CarmenTest, GzCopyReadsTheSame) {
   const std::string text = joinLines(sampleLines());
   SourceStats plain_stats, gz_stats;

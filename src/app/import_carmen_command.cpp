@@ -73,10 +73,11 @@ ImportArgs parseImportArgs(const Args& args, bool& help) {
   if (help) {
     std::cout
         << visible << "\n"
-        << "Reads FLASER/RLASER, ROBOTLASER1, ODOM and the laser PARAM lines; each scan keeps "
-           "the log's ipc_timestamp.\nWrites per laser line: CObservationOdometry "
-           "(ODOMETRY, when known), CObservation2DRangeScan (LASER),\n"
-           "CObservationRobotPose (GT); per ODOM line: CObservationOdometry. "
+        << "Reads FLASER/RLASER, ROBOTLASER1, ODOM and the laser PARAM lines of a CARMEN log\n"
+           "(plain or gz); every scan keeps the log's own time (its ipc_timestamp).\n"
+           "Writes, per laser line: CObservationOdometry (label ODOMETRY, when known),\n"
+           "CObservation2DRangeScan (LASER), CObservationRobotPose (GT, the line's pose);\n"
+           "per ODOM line: CObservationOdometry. Other lines are skipped and counted.\n"
            "See docs/carmen.md.\n";
     return {};
   }
