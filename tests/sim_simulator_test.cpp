@@ -226,7 +226,7 @@ TEST(SimBundled, RawlogsLoadInMrptAndMatchTheirGroundTruth) {
           ASSERT_TRUE(pose);
           EXPECT_NEAR(pose->pose.mean.x(), gt[scan].x, 1e-5);
           EXPECT_NEAR(pose->pose.mean.y(), gt[scan].y, 1e-5);
-          EXPECT_NEAR(pose->pose.mean.yaw(), gt[scan].phi, 1e-5);
+          EXPECT_NEAR(std::remainder(pose->pose.mean.yaw() - gt[scan].phi, 2 * kPi), 0, 1e-5);
         }
       }
       ++records;

@@ -117,15 +117,20 @@ void drawRoute(mrpt::img::CImage& img, const View& v, const RobotSpec& r) {
 }
 
 void drawMovesAndObjects(mrpt::img::CImage& img, const View& v, const Scenario& sc) {
+  // A glide is drawn as its path; a jump (duration 0: carried while nobody looked) only as its
+  // target, since a line would cross walls the object never crossed.
+  img.selectTextFont("6x13");
   for (const auto& m : sc.moves) {
     const Vec2 a = moveOrigin(sc, m);
-    img.line(v.px(a.x), v.py(a.y), v.px(m.to.x), v.py(m.to.y), kMove, 1,
-             mrpt::img::CCanvas::psDash);
+    if (m.duration > 0) {
+      img.line(v.px(a.x), v.py(a.y), v.px(m.to.x), v.py(m.to.y), kMove, 1,
+               mrpt::img::CCanvas::psDash);
+    }
     for (const auto& o : sc.objects) {
-      if (o.id == m.object_id) {
-        img.drawCircle(v.px(m.to.x), v.py(m.to.y),
-                       std::max(2, static_cast<int>(std::lround(o.diameter / 2 * v.ppm))), kMove);
-      }
+      if (o.id != m.object_id) continue;
+      const int r = std::max(2, static_cast<int>(std::lround(o.diameter / 2 * v.ppm)));
+      img.drawCircle(v.px(m.to.x), v.py(m.to.y), r, kMove);
+      img.textOut(v.px(m.to.x) + r + 2, v.py(m.to.y) - 6, std::to_string(o.id), kMove);
     }
   }
   img.selectTextFont("9x15B");
@@ -174,10 +179,11 @@ void drawLegend(mrpt::img::CImage& img, const View& v, const Scenario& sc) {
     img.textOut(x + 30, y1, label, kText);
     x += 30 + 9 * static_cast<int>(label.size()) + 24;
   };
-  item2("move: from -> target", [&](int sx, int sy) {
+  item2("glide: path, target (id)", [&](int sx, int sy) {
     img.line(sx, sy, sx + 16, sy, kMove, 1, mrpt::img::CCanvas::psDash);
     img.drawCircle(sx + 19, sy, 5, kMove);
   });
+  item2("jump target (id)", [&](int sx, int sy) { img.drawCircle(sx + 11, sy, 6, kMove); });
   item2("person at t=0, walk path", [&](int sx, int sy) {
     img.line(sx, sy, sx + 22, sy, kPerson, 1, mrpt::img::CCanvas::psDot);
     fillDisc(img, sx + 11, sy, 6, kPerson);
