@@ -6,6 +6,7 @@
 #   make deps    only install the Debian packages below (when any is missing)
 #   make build   only configure and build (Release) into build/
 #   make format  apply .clang-format to every source file
+#   make scenarios  regenerate every bundled rawlog and its ground truth from config/scenarios/
 
 # Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
 # keep the install well below the whole libmrpt-dev metapackage.
@@ -22,7 +23,7 @@ DYNAMAP := $(BUILD_DIR)/dynamap
 DEMO_INPUT ?= rawlogs/demo/demo.rawlog
 DEMO_OUT ?= out/demo
 
-.PHONY: all deps configure build test demo bench format clean
+.PHONY: all deps configure build test demo bench format clean scenarios
 
 all: build
 
@@ -54,6 +55,14 @@ demo: build
 
 bench: build
 	$(BUILD_DIR)/dynamap_bench $(BENCH_ARGS)
+
+# Each config/scenarios/<name>.ini writes rawlogs/<name>/<name>.{rawlog,gt.txt,objects.csv,
+# moves.csv,world.png}; the SimBundled tests fail when the committed files are stale.
+SCENARIOS := arena corridors people tiny
+scenarios: build
+	@for s in $(SCENARIOS); do \
+	  $(DYNAMAP) simulate --scenario config/scenarios/$$s.ini --out rawlogs/$$s || exit 1; \
+	done
 
 format:
 	clang-format -i $$(git ls-files '*.h' '*.cpp')
