@@ -511,8 +511,7 @@ class CarmenSource : public ScanSource {
   PoseSource poseSource() const override { return source_; }
   const SourceStats& stats() const override { return reader_.stats(); }
   const std::string& path() const override { return reader_.path(); }
-  // ScanSource::fractionRead, being added beside this unit: no `override` until it lands.
-  double fractionRead() const { return reader_.fractionRead(); }
+  double fractionRead() const override { return reader_.fractionRead(); }
 
  private:
   CarmenReader reader_;

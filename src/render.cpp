@@ -1,1 +1,99 @@
-// placeholder
+#include "dynamap/render.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dynamap {
+namespace {
+
+using mrpt::img::CImage;
+
+// BGR, as MRPT's OpenCV-backed images store them.
+struct Bgr {
+  std::uint8_t b, g, r;
+};
+
+inline void put(CImage& img, int x, int y, Bgr c) {
+  auto* p = img.ptrLine<std::uint8_t>(static_cast<unsigned>(y)) + 3 * x;
+  p[0] = c.b;
+  p[1] = c.g;
+  p[2] = c.r;
+}
+
+inline std::uint8_t grey(const DynamicGridMap& map, std::size_t i) {
+  return DynamicGridMap::l2p_255(map.getRawMap()[i]);
+}
+
+// Fills an image of the grid at `scale` px per cell, colour from a cell's linear index.
+template <typename ColourOf>
+CImage paintCells(const DynamicGridMap& map, int scale, ColourOf colour) {
+  const unsigned sx = map.getSizeX(), sy = map.getSizeY();
+  CImage img(sx * scale, sy * scale, mrpt::img::CH_RGB);
+  for (unsigned cy = 0; cy < sy; ++cy) {
+    const int row0 = static_cast<int>((sy - 1 - cy) * scale);
+    for (unsigned cx = 0; cx < sx; ++cx) {
+      const Bgr c = colour(cx + static_cast<std::size_t>(cy) * sx);
+      for (int dy = 0; dy < scale; ++dy) {
+        for (int dx = 0; dx < scale; ++dx) put(img, cx * scale + dx, row0 + dy, c);
+      }
+    }
+  }
+  return img;
+}
+
+}  // namespace
+
+CImage renderStatic(const DynamicGridMap& map) {
+  const unsigned sx = map.getSizeX(), sy = map.getSizeY();
+  CImage img(sx, sy, mrpt::img::CH_GRAY);
+  for (unsigned cy = 0; cy < sy; ++cy) {
+    auto* row = img.ptrLine<std::uint8_t>(sy - 1 - cy);
+    for (unsigned cx = 0; cx < sx; ++cx) row[cx] = grey(map, cx + static_cast<std::size_t>(cy) * sx);
+  }
+  return img;
+}
+
+CImage renderDynamic(const DynamicGridMap& map) {
+  const auto& d = map.dynamicRaw();
+  return paintCells(map, 1, [&](std::size_t i) {
+    const float p = 1.0f - DynamicGridMap::l2p(d[i]);
+    if (p > 0.5f) {
+      // White at 0.5 to deep red at 1.
+      const float f = std::min(1.0f, (p - 0.5f) * 2.0f);
+      const auto fade = static_cast<std::uint8_t>(255.0f * (1.0f - f));
+      return Bgr{fade, fade, static_cast<std::uint8_t>(255 - 75.0f * f)};
+    }
+    if (map.getRawMap()[i] < 0) return Bgr{200, 200, 200};  // S occupied, for context
+    return Bgr{255, 255, 255};
+  });
+}
+
+int overlayScale(unsigned size_x, unsigned min_width) {
+  if (size_x == 0) return 1;
+  const unsigned s = (min_width + size_x - 1) / size_x;
+  return static_cast<int>(std::clamp(s, 1u, 8u));
+}
+
+Pixel toPixel(const DynamicGridMap& map, int scale, double x, double y) {
+  const double fx = (x - map.getXMin()) / map.getResolution();
+  const double fy = (y - map.getYMin()) / map.getResolution();
+  return {static_cast<int>(std::floor(fx * scale)),
+          static_cast<int>(std::floor((map.getSizeY() - fy) * scale))};
+}
+
+CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path, int scale) {
+  CImage img = paintCells(map, scale, [&](std::size_t i) {
+    if (map.isObjectIndex(i)) return Bgr{0, 0, 230};
+    const std::uint8_t g = grey(map, i);
+    return Bgr{g, g, g};
+  });
+  const mrpt::img::TColor blue(40, 90, 255);
+  for (std::size_t k = 1; k < path.size(); ++k) {
+    const Pixel a = toPixel(map, scale, path[k - 1].x, path[k - 1].y);
+    const Pixel b = toPixel(map, scale, path[k].x, path[k].y);
+    img.line(a.x, a.y, b.x, b.y, blue, 1);
+  }
+  return img;
+}
+
+}  // namespace dynamap

@@ -1,1 +1,380 @@
-// placeholder
+#include "dynamap/scan_source.h"
+
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <cmath>
+#include <deque>
+#include <fstream>
+#include <sstream>
+
+#include "dynamap/carmen_reader.h"
+#include "dynamap/config_check.h"
+#include "dynamap/pose_track.h"
+
+namespace dynamap {
+
+PoseSource parsePoseSource(const std::string& name) {
+  if (name == "auto") return PoseSource::Auto;
+  if (name == "simplemap") return PoseSource::Simplemap;
+  if (name == "ground_truth") return PoseSource::GroundTruth;
+  if (name == "odometry") return PoseSource::Odometry;
+  throw std::invalid_argument("unknown pose source '" + name +
+                              "' (auto, simplemap, ground_truth, odometry)");
+}
+
+std::string toString(PoseSource source) {
+  switch (source) {
+    case PoseSource::Auto: return "auto";
+    case PoseSource::Simplemap: return "simplemap";
+    case PoseSource::GroundTruth: return "ground_truth";
+    case PoseSource::Odometry: return "odometry";
+  }
+  return "?";
+}
+
+namespace {
+
+using mrpt::obs::CObservation2DRangeScan;
+
+std::string stripRawlogExtension(std::string p) {
+  for (const char* ext : {".gz", ".rawlog"}) {
+    const std::string e = ext;
+    if (p.size() > e.size() && p.compare(p.size() - e.size(), e.size(), e) == 0) {
+      p.resize(p.size() - e.size());
+    }
+  }
+  return p;
+}
+
+/// MRPT's companion ground-truth file: <log without .rawlog[.gz]>.gt.txt.
+std::string companionGroundTruth(const std::string& path) {
+  return stripRawlogExtension(path) + ".gt.txt";
+}
+
+bool fileExists(const std::string& p) { return std::ifstream(p).good(); }
+
+/// The first decompressed bytes of a file (gz or plain).
+std::string fileHead(const std::string& path, std::size_t n) {
+  mrpt::io::CFileGZInputStream in;
+  if (!in.open(path)) throw InputError(path + ": cannot open");
+  std::string head(n, '\0');
+  const std::size_t got = in.Read(head.data(), n);
+  head.resize(got);
+  return head;
+}
+
+/// Reads `timestamp x y phi` lines (MRPT's .gt.txt) into a pose track.
+void loadGroundTruthText(const std::string& path, PoseTrack& track) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open ground-truth file");
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#' || line[first] == '%') continue;
+    std::istringstream fields(line);
+    std::string tok[4];
+    double v[4];
+    for (int k = 0; k < 4; ++k) {
+      if (!(fields >> tok[k]) || !parseDouble(tok[k], v[k])) {
+        throw InputError(path + ":" + std::to_string(line_no) +
+                         ": expected 'timestamp x y phi' (numbers)");
+      }
+    }
+    track.add(v[0], mrpt::poses::CPose2D(v[1], v[2], v[3]));
+  }
+}
+
+double toSeconds(const mrpt::Clock::time_point& t) { return mrpt::Clock::toDouble(t); }
+
+/// Streams an MRPT rawlog (either format), one record at a time, resolving each scan's pose by
+/// time from the chosen pose source.
+class RawlogSource : public ScanSource {
+ public:
+  RawlogSource(const std::string& path, PoseSource source) : path_(path), source_(source) {
+    if (!in_.open(path)) throw InputError(path + ": cannot open");
+    if (source_ == PoseSource::GroundTruth && !hasGroundTruthInLog(path)) {
+      const std::string gt = companionGroundTruth(path);
+      if (!fileExists(gt)) {
+        throw InputError(path + ": no ground-truth poses (no CObservationRobotPose in the log, "
+                                "no companion file " + gt + ")");
+      }
+      loadGroundTruthText(gt, poses_);
+      poses_from_file_ = true;
+    }
+  }
+
+  static bool hasGroundTruthInLog(const std::string& path);
+
+  bool next(ScanRecord& out) override {
+    while (true) {
+      if (!ready_.empty()) {
+        out = std::move(ready_.front());
+        ready_.pop_front();
+        return true;
+      }
+      if (eof_) return flushPending(out);
+      readRecord();
+      resolvePending(false);
+    }
+  }
+
+  PoseSource poseSource() const override { return source_; }
+  const SourceStats& stats() const override { return stats_; }
+  const std::string& path() const override { return path_; }
+
+ private:
+  struct Pending {
+    std::size_t index;
+    double t;
+    CObservation2DRangeScan::Ptr scan;
+  };
+
+  void readRecord() {
+    const uint64_t start = in_.getPosition();
+    mrpt::serialization::CSerializable::Ptr obj;
+    try {
+      obj = mrpt::serialization::archiveFrom(in_).ReadObject();
+    } catch (const mrpt::serialization::CExceptionEOF&) {
+      eof_ = true;
+      if (in_.getPosition() != start) {
+        fault_ = "record " + std::to_string(stats_.records) + " at byte " +
+                 std::to_string(start) + " is cut off (truncated file)";
+      }
+      return;
+    } catch (const std::exception& e) {
+      eof_ = true;
+      fault_ = "record " + std::to_string(stats_.records) + " at byte " + std::to_string(start) +
+               " is corrupt: " + firstLine(e.what());
+      return;
+    }
+    ++stats_.records;
+    if (!obj) return;
+    if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
+      if (odometry_from_actions_) {
+        // The odometry integrated so far is the pose of this frame's observations.
+        const double t = frameTime(*sf);
+        if (std::isfinite(t) && source_ == PoseSource::Odometry) poses_.add(t, odometry_);
+      }
+      for (const auto& o : *sf) take(o);
+    } else if (auto acts = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
+      if (auto mv = acts->getBestMovementEstimation()) {
+        odometry_ = odometry_ + mv->poseChange->getMeanVal();
+        odometry_from_actions_ = true;
+      }
+    } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
+      take(o);
+    } else {
+      ++stats_.skipped[std::string("record of class ") + obj->GetRuntimeClass()->className];
+    }
+  }
+
+  static std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
+
+  static double frameTime(const mrpt::obs::CSensoryFrame& sf) {
+    for (const auto& o : sf) {
+      if (o && o->timestamp != INVALID_TIMESTAMP) return toSeconds(o->timestamp);
+    }
+    return NAN;
+  }
+
+  void take(const mrpt::obs::CObservation::Ptr& o) {
+    if (!o) return;
+    const double t = o->timestamp == INVALID_TIMESTAMP ? NAN : toSeconds(o->timestamp);
+    if (auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o)) {
+      const std::size_t index = stats_.scans++;
+      if (!std::isfinite(t)) {
+        throw InputError(path_ + ": scan " + std::to_string(index) + " has no timestamp");
+      }
+      pending_.push_back({index, t, scan});
+      if (pending_.size() > kMaxPending) {
+        throw InputError(path_ + ": scan " + std::to_string(pending_.front().index) + " has no " +
+                         toString(source_) + " pose within " + std::to_string(kMaxPending) +
+                         " scans after it");
+      }
+    } else if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
+      if (source_ == PoseSource::Odometry && std::isfinite(t)) poses_.add(t, odo->odometry);
+    } else if (auto gt = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o)) {
+      if (source_ == PoseSource::GroundTruth && !poses_from_file_ && std::isfinite(t)) {
+        poses_.add(t, mrpt::poses::CPose2D(gt->pose.mean));
+      }
+    }
+  }
+
+  /// Moves pending scans whose pose is now known to ready_. At the end of input (`final`), a
+  /// scan past the last pose can only take it if close enough in time.
+  void resolvePending(bool final) {
+    while (!pending_.empty()) {
+      Pending& p = pending_.front();
+      mrpt::poses::CPose2D pose;
+      const PoseTrack::Lookup r = poses_.at(p.t, pose, final);
+      if (r == PoseTrack::Lookup::kLater) return;  // wait for a later pose
+      if (r != PoseTrack::Lookup::kFound) {
+        if (final && !fault_.empty()) {  // the fault, not the pose, is what went wrong
+          pending_.clear();
+          return;
+        }
+        throw InputError(path_ + ": scan " + std::to_string(p.index) + " (t=" +
+                         std::to_string(p.t) + ") has no " + toString(source_) + " pose");
+      }
+      ready_.push_back({p.index, p.t, pose, std::move(p.scan)});
+      pending_.pop_front();
+      poses_.forgetBefore(p.t);
+    }
+  }
+
+  bool flushPending(ScanRecord& out) {
+    resolvePending(true);
+    if (!ready_.empty()) {
+      out = std::move(ready_.front());
+      ready_.pop_front();
+      return true;
+    }
+    if (!fault_.empty()) {
+      const std::string f = fault_;
+      fault_.clear();
+      throw InputError(path_ + ": " + f);
+    }
+    return false;
+  }
+
+  static constexpr std::size_t kMaxPending = 10000;
+
+  std::string path_;
+  PoseSource source_;
+  mrpt::io::CFileGZInputStream in_;
+  SourceStats stats_;
+  PoseTrack poses_;
+  bool poses_from_file_ = false;
+  mrpt::poses::CPose2D odometry_;
+  bool odometry_from_actions_ = false;
+  std::deque<Pending> pending_;
+  std::deque<ScanRecord> ready_;
+  bool eof_ = false;
+  std::string fault_;
+};
+
+/// What pose sources a rawlog offers, from its first records.
+struct RawlogPeek {
+  bool ground_truth = false;
+  bool odometry = false;
+};
+
+RawlogPeek peekRawlog(const std::string& path) {
+  RawlogPeek peek;
+  mrpt::io::CFileGZInputStream in;
+  if (!in.open(path)) throw InputError(path + ": cannot open");
+  auto see = [&](const mrpt::obs::CObservation::Ptr& o) {
+    if (std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o)) peek.ground_truth = true;
+    if (std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) peek.odometry = true;
+  };
+  // A few hundred records tell which kinds of pose the log carries.
+  for (int i = 0; i < 300; ++i) {
+    mrpt::serialization::CSerializable::Ptr obj;
+    try {
+      obj = mrpt::serialization::archiveFrom(in).ReadObject();
+    } catch (const std::exception&) {
+      break;  // faults are reported by the real pass, at their record
+    }
+    if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
+      for (const auto& o : *sf) see(o);
+    } else if (std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
+      peek.odometry = true;
+    } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
+      see(o);
+    }
+  }
+  return peek;
+}
+
+bool RawlogSource::hasGroundTruthInLog(const std::string& path) {
+  return peekRawlog(path).ground_truth;
+}
+
+/// A simplemap's keyframes: each sensory frame's scans at the keyframe's mean pose.
+class SimplemapSource : public ScanSource {
+ public:
+  explicit SimplemapSource(const std::string& path) : path_(path) {
+    if (!map_.loadFromFile(path)) throw InputError(path + ": cannot read simplemap");
+    stats_.records = map_.size();
+    it_ = map_.begin();
+  }
+
+  bool next(ScanRecord& out) override {
+    while (it_ != map_.end()) {
+      if (obs_index_ < it_->sf->size()) {
+        auto o = it_->sf->getObservationByIndex(obs_index_++);
+        auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o);
+        if (!scan) continue;
+        out.index = stats_.scans++;
+        out.t = scan->timestamp == INVALID_TIMESTAMP ? 0.0 : toSeconds(scan->timestamp);
+        out.pose = mrpt::poses::CPose2D(it_->pose->getMeanVal());
+        out.scan = scan;
+        return true;
+      }
+      ++it_;
+      obs_index_ = 0;
+    }
+    return false;
+  }
+
+  PoseSource poseSource() const override { return PoseSource::Simplemap; }
+  double fractionRead() const override {
+    return map_.size() ? static_cast<double>(it_ - map_.begin()) / map_.size() : 1.0;
+  }
+  const SourceStats& stats() const override { return stats_; }
+  const std::string& path() const override { return path_; }
+
+ private:
+  std::string path_;
+  mrpt::maps::CSimpleMap map_;
+  mrpt::maps::CSimpleMap::const_iterator it_;
+  std::size_t obs_index_ = 0;
+  SourceStats stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource source,
+                                           const CarmenOptions* carmen) {
+  if (!fileExists(path)) throw InputError(path + ": no such file");
+  if (looksLikeCarmen(path)) return openCarmenSource(path, source, carmen ? *carmen : CarmenOptions{});
+  const std::string head = fileHead(path, 256);
+  if (head.empty()) throw InputError(path + ": empty file");
+  if (head.find("CSimpleMap") != std::string::npos) {
+    if (source != PoseSource::Auto && source != PoseSource::Simplemap) {
+      throw InputError(path + ": a simplemap only carries simplemap poses (asked for " +
+                       toString(source) + ")");
+    }
+    return std::make_unique<SimplemapSource>(path);
+  }
+  if (head.find("CSensoryFrame") == std::string::npos &&
+      head.find("CActionCollection") == std::string::npos &&
+      head.find("CObservation") == std::string::npos) {
+    throw InputError(path + ": not an MRPT rawlog, simplemap or CARMEN log");
+  }
+  if (source == PoseSource::Simplemap) {
+    throw InputError(path + ": pose source simplemap needs a .simplemap file");
+  }
+  if (source == PoseSource::Auto) {
+    const RawlogPeek peek = peekRawlog(path);
+    if (peek.ground_truth || fileExists(companionGroundTruth(path))) {
+      source = PoseSource::GroundTruth;
+    } else if (peek.odometry) {
+      source = PoseSource::Odometry;
+    } else {
+      throw InputError(path + ": no poses found (no ground truth, no odometry)");
+    }
+  }
+  return std::make_unique<RawlogSource>(path, source);
+}
+
+}  // namespace dynamap

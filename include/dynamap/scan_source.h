@@ -61,10 +61,17 @@ class ScanSource {
   virtual const SourceStats& stats() const = 0;
   /// The file being read.
   virtual const std::string& path() const = 0;
+  /// How much of the input has been read, in [0, 1], or negative when unknown (compressed
+  /// streams); drives the progress line's estimate of the time left.
+  virtual double fractionRead() const { return -1.0; }
 };
 
-/// Opens `path`, telling its format by content (CARMEN text, simplemap, rawlog).
+struct CarmenOptions;
+
+/// Opens `path`, telling its format by content (CARMEN text, simplemap, rawlog); `carmen`
+/// (nullptr: defaults) applies to CARMEN logs.
 /// Throws InputError if the file cannot be read or no scan can have a pose under `source`.
-std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource source);
+std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource source,
+                                           const CarmenOptions* carmen = nullptr);
 
 }  // namespace dynamap

@@ -1,1 +1,51 @@
-// placeholder
+#include "cli.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+namespace dynamap::app {
+
+bool parseArgs(const Args& args, const po::options_description& options,
+               const po::positional_options_description& positional, po::variables_map& vm,
+               const std::string& usage) {
+  try {
+    po::store(po::command_line_parser(args).options(options).positional(positional).run(), vm);
+    if (vm.count("help")) {
+      std::cout << usage << "\n\n" << options << "\n";
+      return false;
+    }
+    po::notify(vm);
+  } catch (const po::error& e) {
+    throw UsageError(e.what());
+  }
+  return true;
+}
+
+bool stderrIsTerminal() { return isatty(fileno(stderr)) != 0; }
+
+void Progress::update(double fraction, std::size_t done) {
+  if (!enabled_) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (shown_ && now - last_ < std::chrono::milliseconds(250)) return;
+  last_ = now;
+  shown_ = true;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double rate = elapsed > 0 ? done / elapsed : 0.0;
+  if (fraction >= 0 && fraction <= 1) {
+    const double left = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
+    std::fprintf(stderr, "\r%5.1f%%  %7zu scans  %8.0f scans/s  %6.0f s left   ", 100 * fraction,
+                 done, rate, left);
+  } else {
+    std::fprintf(stderr, "\r%7zu scans  %8.0f scans/s   ", done, rate);
+  }
+  std::fflush(stderr);
+}
+
+void Progress::finish() {
+  if (shown_) std::fprintf(stderr, "\n");
+  shown_ = false;
+}
+
+}  // namespace dynamap::app

@@ -1,0 +1,82 @@
+#pragma once
+// One mapping run: configuration, the per-scan step, and the outputs of `dynamap map`.
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "dynamap/dynamic_grid_map.h"
+#include "dynamap/render.h"
+#include "dynamap/scan_source.h"
+
+namespace dynamap {
+
+class IniFile;
+
+/// Everything `dynamap map` reads from its .ini file.
+struct MapConfig {
+  DynamicMapOptions map;
+  InsertionOptions insertion;
+  PoseSource poses = PoseSource::Auto;  ///< [input] poses
+
+  /// Strict: unknown sections or keys, bad values: ConfigError naming file, section and key.
+  static MapConfig load(const IniFile& ini);
+  /// The effective configuration as a reloadable .ini.
+  void writeIni(std::ostream& out) const;
+};
+
+/// Counts of a run, for summary.json.
+struct RunCounts {
+  std::size_t scans_used = 0;
+  std::map<std::string, std::size_t> scans_skipped;  ///< by reason
+  std::uint64_t beams_bad = 0;                        ///< NaN / inf / negative ranges
+  std::size_t time_backwards = 0;  ///< scans older than the one before
+  double first_t = 0, last_t = 0;
+};
+
+/// The per-scan step: insert into S and D, extend the robot's path.
+class Mapper {
+ public:
+  explicit Mapper(const MapConfig& config);
+
+  /// Inserts one scan; false when it was skipped (counted by reason).
+  bool process(const ScanRecord& rec);
+
+  const DynamicGridMap& map() const { return map_; }
+  DynamicGridMap& map() { return map_; }
+  const std::vector<PathPoint>& path() const { return path_; }
+  const RunCounts& counts() const { return counts_; }
+  const MapConfig& config() const { return config_; }
+
+ private:
+  MapConfig config_;
+  DynamicGridMap map_;
+  std::vector<PathPoint> path_;  // decimated: a point every path_step_ metres
+  double path_step_;
+  RunCounts counts_;
+  bool have_t_ = false;
+};
+
+/// What happened to the input: empty `fault` means it was read to its end.
+struct InputOutcome {
+  std::string fault;
+};
+
+/// Feeds every scan of `source` to `mapper`, calling `on_scan` after each. An InputError from
+/// the source ends the loop and is returned as the outcome's fault: everything before it stays.
+InputOutcome runMapping(ScanSource& source, Mapper& mapper,
+                        const std::function<void(const ScanRecord&)>& on_scan = {});
+
+/// Writes every output of `dynamap map` into `dir` (which must exist).
+struct OutputInfo {
+  std::string input;
+  double wall_s = 0;
+  InputOutcome outcome;
+};
+void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSource& source,
+                     const OutputInfo& info);
+
+}  // namespace dynamap

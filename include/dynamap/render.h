@@ -1,0 +1,40 @@
+#pragma once
+// Pictures of the maps, rendered headlessly into MRPT images (north up: row 0 is the grid's
+// largest y). static and dynamic pictures have one pixel per cell; the overlay is scaled up by
+// an integer factor so that labels stay legible on small maps.
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/img/TColor.h>
+
+#include <vector>
+
+#include "dynamap/dynamic_grid_map.h"
+
+namespace dynamap {
+
+struct PathPoint {
+  double x, y;
+};
+
+/// S in grey levels (white free, black occupied, grey unknown), one pixel per cell, 1 channel.
+mrpt::img::CImage renderStatic(const DynamicGridMap& map);
+/// D alone: white where D holds nothing, shades of red growing with D's P(occ) above 0.5, and
+/// S's occupied cells in light grey for context. One pixel per cell.
+mrpt::img::CImage renderDynamic(const DynamicGridMap& map);
+
+/// The integer scale that makes a grid of `size_x` cells at least `min_width` pixels wide
+/// (capped at 8; 1 for grids already that wide).
+int overlayScale(unsigned size_x, unsigned min_width = 800);
+
+/// S in grey levels, D cells above object_threshold in red, the robot's path as a thin blue line.
+/// `scale` pixels per cell.
+mrpt::img::CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
+                                int scale);
+
+/// Pixel of a world point in an image of `map` drawn at `scale` pixels per cell (north up).
+struct Pixel {
+  int x, y;
+};
+Pixel toPixel(const DynamicGridMap& map, int scale, double x, double y);
+
+}  // namespace dynamap

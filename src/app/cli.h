@@ -1,0 +1,40 @@
+#pragma once
+// Small helpers shared by the subcommands: option parsing with boost::program_options and the
+// progress line.
+
+#include <boost/program_options.hpp>
+
+#include <chrono>
+#include <string>
+
+#include "commands.h"
+
+namespace dynamap::app {
+
+namespace po = boost::program_options;
+
+/// Parses `args` against `options` (with `positional` names, may be empty). Returns false after
+/// printing help when --help was given. Throws UsageError for a bad command line.
+bool parseArgs(const Args& args, const po::options_description& options,
+               const po::positional_options_description& positional, po::variables_map& vm,
+               const std::string& usage);
+
+/// A progress line on stderr, redrawn at most a few times a second, only when stderr is a
+/// terminal (or when forced by --verbose).
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled) {}
+  /// `fraction` in [0, 1] or negative when unknown; `done` scans so far.
+  void update(double fraction, std::size_t done);
+  void finish();
+
+ private:
+  bool enabled_;
+  bool shown_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_{};
+};
+
+bool stderrIsTerminal();
+
+}  // namespace dynamap::app
