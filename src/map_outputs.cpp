@@ -59,16 +59,39 @@ void saveImageAtomically(const mrpt::img::CImage& img, const std::string& dir,
   commit(tmp, dir, name);
 }
 
-void writeGridmap(const DynamicGridMap& map, const std::string& dir, const std::string& name) {
+namespace {
+
+void saveGrid(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& dir,
+              const std::string& name) {
   const std::string tmp = tempName(dir, name);
   {
     mrpt::io::CFileGZOutputStream out;
     if (!out.open(tmp)) throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write");
-    // Serialised as the base class: what MRPT loads back is the static map S.
-    const mrpt::maps::COccupancyGridMap2D& s = map;
-    mrpt::serialization::archiveFrom(out) << s;
+    mrpt::serialization::archiveFrom(out) << grid;
   }
   commit(tmp, dir, name);
+}
+
+// A plain MRPT grid holding D's cells, so any MRPT tool can load the dynamic map too.
+struct DynamicLayerGrid : mrpt::maps::COccupancyGridMap2D {
+  explicit DynamicLayerGrid(const DynamicGridMap& map)
+      : COccupancyGridMap2D(map.getXMin(), map.getXMax(), map.getYMin(), map.getYMax(),
+                            map.getResolution()) {
+    m_map = map.dynamicRaw();
+    m_is_empty = false;
+  }
+};
+
+}  // namespace
+
+void writeGridmap(const DynamicGridMap& map, const std::string& dir, const std::string& name) {
+  // Serialised as the base class: what MRPT loads back is the static map S.
+  saveGrid(map, dir, name);
+}
+
+void writeDynamicGridmap(const DynamicGridMap& map, const std::string& dir,
+                         const std::string& name) {
+  saveGrid(DynamicLayerGrid(map), dir, name);
 }
 
 void writeRosMap(const DynamicGridMap& map, const std::string& dir, const std::string& stem) {

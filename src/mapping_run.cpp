@@ -146,6 +146,7 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
   saveImageAtomically(renderOverlay(m, mapper.path(), overlayScale(m.getSizeX())), dir,
                       "overlay.png");
   writeGridmap(m, dir, "static.gridmap.gz");
+  writeDynamicGridmap(m, dir, "dynamic.gridmap.gz");
   writeRosMap(m, dir, "static");
   writeFileAtomically(dir, "config.ini", [&](std::ostream& o) { mapper.config().writeIni(o); });
   writeFileAtomically(dir, "summary.json",

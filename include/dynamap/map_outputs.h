@@ -23,6 +23,10 @@ void saveImageAtomically(const mrpt::img::CImage& img, const std::string& dir,
                          const std::string& name);
 /// S as an MRPT gridmap (gz-compressed COccupancyGridMap2D, loadable by any MRPT tool).
 void writeGridmap(const DynamicGridMap& map, const std::string& dir, const std::string& name);
+/// D as an MRPT gridmap of the same geometry: its getCell() is D's P(free), so an object cell
+/// reads below 1 - object_threshold.
+void writeDynamicGridmap(const DynamicGridMap& map, const std::string& dir,
+                         const std::string& name);
 /// S as a ROS map_server map: `<stem>.pgm` (P(free) in grey levels) and `<stem>.yaml`.
 void writeRosMap(const DynamicGridMap& map, const std::string& dir, const std::string& stem);
 

@@ -16,8 +16,9 @@ const char* const kUsage =
     "usage: dynamap map --input FILE [--config FILE] [--out DIR] [--poses SOURCE] [--verbose]\n\n"
     "Builds the static map S and the dynamic map D from a log (MRPT rawlog, MRPT simplemap or\n"
     "CARMEN log, plain or gz, told apart by content) and writes into DIR: static.png,\n"
-    "dynamic.png, overlay.png, static.gridmap.gz (MRPT), static.pgm + static.yaml (ROS\n"
-    "map_server), config.ini (the effective configuration) and summary.json.";
+    "dynamic.png, overlay.png, static.gridmap.gz and dynamic.gridmap.gz (MRPT),\n"
+    "static.pgm + static.yaml (ROS map_server), config.ini (the effective configuration)\n"
+    "and summary.json.";
 
 }  // namespace
 
