@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 
+#include "dynamap/polygon_fill.h"
 #include "dynamap/ray_cast.h"
 
 namespace dynamap {
@@ -21,8 +22,6 @@ constexpr int kCellMin = Base::OCCGRID_CELLTYPE_MIN;
 constexpr int kCellMax = Base::OCCGRID_CELLTYPE_MAX;
 constexpr double kLogOddsUnitsPerNat = 16.0;  // MRPT's integer log-odds scale
 
-// What a beam contributes: a hit at its end cell, or only the cells it crossed.
-enum BeamKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
 
 inline cellType clampCell(int v, int lo, int hi = kCellMax) {
   return static_cast<cellType>(v < lo ? lo : (v > hi ? hi : v));
@@ -62,6 +61,12 @@ DynamicGridMap::DynamicGridMap(const DynamicMapOptions& options, const Insertion
   object_cell_ = firstCellWhere([&](float p) { return p >= object_p; });
   d_floor_ = static_cast<cellType>(std::max(kCellMin, logOddsFreeStep(options_.d_max)));
   d_ceiling_ = static_cast<cellType>(std::min(kCellMax, logOddsFreeStep(options_.d_min)));
+  // A miss is the same update whatever S's state: tabulate it, indexed by the cell's bits.
+  for (int c = kCellMin - 1; c <= kCellMax; ++c) {
+    const auto bits = static_cast<std::uint8_t>(static_cast<cellType>(c));
+    miss_s_[bits] = clampCell(c + deltas_.s_miss, kCellMin);
+    miss_d_[bits] = clampCell(c + deltas_.d_miss, d_floor_, d_ceiling_);
+  }
   syncLayers();
 }
 
@@ -79,26 +84,22 @@ void DynamicGridMap::syncLayers() {
     return;
   }
   std::vector<cellType> dyn(m_map.size(), 0);
-  std::vector<std::uint32_t> stamp(m_map.size(), 0);
   if (!dyn_.empty()) {
     // The base grows by whole cells, so the old layer sits at an integer offset.
     const long ox = std::lround((layer_x_min_ - m_xMin) / m_resolution);
     const long oy = std::lround((layer_y_min_ - m_yMin) / m_resolution);
-    for (std::uint32_t y = 0; y < layer_size_y_; ++y) {
+    // Copy the overlap row by row.
+    const long x_lo = std::max(0L, -ox), x_hi = std::min<long>(layer_size_x_, m_size_x - ox);
+    for (std::uint32_t y = 0; y < layer_size_y_ && x_lo < x_hi; ++y) {
       const long ny = static_cast<long>(y) + oy;
       if (ny < 0 || ny >= static_cast<long>(m_size_y)) continue;
-      for (std::uint32_t x = 0; x < layer_size_x_; ++x) {
-        const long nx = static_cast<long>(x) + ox;
-        if (nx < 0 || nx >= static_cast<long>(m_size_x)) continue;
-        const std::size_t from = x + static_cast<std::size_t>(y) * layer_size_x_;
-        const std::size_t to = static_cast<std::size_t>(nx) + static_cast<std::size_t>(ny) * m_size_x;
-        dyn[to] = dyn_[from];
-        stamp[to] = stamp_[from];
-      }
+      const auto src = dyn_.begin() + static_cast<long>(y) * layer_size_x_;
+      std::copy(src + x_lo, src + x_hi, dyn.begin() + ny * static_cast<long>(m_size_x) + x_lo + ox);
     }
   }
   dyn_.swap(dyn);
-  stamp_.swap(stamp);
+  // Marks only matter within one scan and the grid grows before a scan sets any: start afresh.
+  stamp_.assign(m_map.size(), 0);
   layer_x_min_ = m_xMin;
   layer_y_min_ = m_yMin;
   layer_size_x_ = m_size_x;
@@ -173,12 +174,6 @@ inline void DynamicGridMap::applyHit(std::size_t index) {
   noteChange(index, d);
 }
 
-inline void DynamicGridMap::applyMiss(std::size_t index) {
-  const cellType d = dyn_[index];
-  m_map[index] = clampCell(m_map[index] + deltas_.s_miss, kCellMin);
-  dyn_[index] = clampCell(d + deltas_.d_miss, d_floor_, d_ceiling_);
-  noteChange(index, d);
-}
 
 bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
                                 const mrpt::poses::CPose3D& robot_pose) {
@@ -186,8 +181,22 @@ bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
   if (!scan.isPlanarScan(tolerance)) return false;
   const std::size_t n = scan.getScanSize();
   if (n == 0 || !(scan.aperture > 0.0f) || !std::isfinite(scan.aperture)) return false;
-
   m_likelihoodCacheOutDated = true;
+
+  const mrpt::poses::CPose2D sensor = computeBeams(scan, robot_pose);  // 1. where beams end
+  growToFit(sensor);                                                   // 2. room for them
+  nextStamp();                                                         // 3. a fresh scan mark
+  applyHits();                                                         // 4. hits first
+  planWedges();                                                        // 5. area between beams
+  sweepFreeArea(sensor);
+  traceBeamTails(sensor);                                              // 6. each beam beyond it
+  last_stats_.inserted = last_stats_.beams_used > 0;
+  return last_stats_.inserted;
+}
+
+mrpt::poses::CPose2D DynamicGridMap::computeBeams(const mrpt::obs::CObservation2DRangeScan& scan,
+                                                  const mrpt::poses::CPose3D& robot_pose) {
+  const std::size_t n = scan.getScanSize();
   const mrpt::poses::CPose3D sensor3d = robot_pose + scan.sensorPose;
   const mrpt::poses::CPose2D sensor(sensor3d);
   // A sensor mounted upside down sweeps the other way round.
@@ -198,83 +207,144 @@ bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
   const double dir = (scan.rightToLeft ^ upside_down) ? 1.0 : -1.0;
   const float max_range = static_cast<float>(insertion_.max_distance_insertion);
 
-  // 1. Beam end points in the map frame, and the box that must fit in the grid.
-  end_x_.resize(n);
-  end_y_.resize(n);
-  end_kind_.assign(n, kBeamNone);
-  const float px = static_cast<float>(sensor.x());
-  const float py = static_cast<float>(sensor.y());
-  float min_x = px, max_x = px, min_y = py, max_y = py;
+  beams_.assign(n, Beam{});
   float last_valid = max_range;
   for (std::size_t i = 0; i < n; ++i) {
+    Beam& b = beams_[i];
+    const double angle = sensor.phi() + dir * (first + step * static_cast<double>(i));
+    b.cos = std::cos(angle);
+    b.sin = std::sin(angle);
     const float r = scan.getScanRange(i);
-    float reach = 0;
     if (scan.getScanRangeValidity(i)) {
       if (!std::isfinite(r) || r < 0.0f) {
         ++last_stats_.beams_bad;
         continue;
       }
-      reach = std::min(max_range, r);
-      end_kind_[i] = r < max_range ? kBeamHit : kBeamFreeOnly;
+      b.reach = std::min(max_range, r);
+      b.kind = r < max_range ? kBeamHit : kBeamFreeOnly;
       last_valid = r;
     } else if (insertion_.invalid_ranges_as_free) {
-      reach = std::min(max_range, 0.5f * last_valid);
-      end_kind_[i] = kBeamFreeOnly;
+      b.reach = std::min(max_range, 0.5f * last_valid);
+      b.kind = kBeamFreeOnly;
     } else {
       continue;
     }
-    const double a = sensor.phi() + dir * (first + step * static_cast<double>(i));
-    end_x_[i] = px + static_cast<float>(std::cos(a)) * reach;
-    end_y_[i] = py + static_cast<float>(std::sin(a)) * reach;
-    min_x = std::min(min_x, end_x_[i]);
-    max_x = std::max(max_x, end_x_[i]);
-    min_y = std::min(min_y, end_y_[i]);
-    max_y = std::max(max_y, end_y_[i]);
+    b.end_x = static_cast<float>(sensor.x() + b.cos * b.reach);
+    b.end_y = static_cast<float>(sensor.y() + b.sin * b.reach);
   }
+  return sensor;
+}
 
-  // 2. Grow S and D together when the scan reaches past the grid (with one cell of slack).
-  const float slack = m_resolution;
+void DynamicGridMap::growToFit(const mrpt::poses::CPose2D& sensor) {
+  float min_x = static_cast<float>(sensor.x()), max_x = min_x;
+  float min_y = static_cast<float>(sensor.y()), max_y = min_y;
+  for (const Beam& b : beams_) {
+    if (b.kind == kBeamNone) continue;
+    min_x = std::min(min_x, b.end_x);
+    max_x = std::max(max_x, b.end_x);
+    min_y = std::min(min_y, b.end_y);
+    max_y = std::max(max_y, b.end_y);
+  }
+  const float slack = m_resolution;  // one cell, so every end point is strictly inside
   if (min_x < m_xMin + slack || max_x > m_xMax - slack || min_y < m_yMin + slack ||
       max_y > m_yMax - slack) {
     resizeGrid(min_x - slack, max_x + slack, min_y - slack, max_y + slack, 0.5f, true);
   }
+}
 
-  // 3. A new stamp marks the cells this scan has updated.
-  if (++scan_stamp_ == 0) {
+void DynamicGridMap::nextStamp() {
+  if (++scan_stamp_ == 0) {  // after 4 billion scans: start the marks again
     std::fill(stamp_.begin(), stamp_.end(), 0);
     scan_stamp_ = 1;
   }
-  const std::uint32_t stamp = scan_stamp_;
-  const std::size_t size_x = m_size_x;
+}
 
-  // 4. Hits first, so a hit beats a miss of another beam in the same cell.
-  for (std::size_t i = 0; i < n; ++i) {
-    if (end_kind_[i] != kBeamHit) continue;
-    const std::size_t idx = x2idx(end_x_[i]) + static_cast<std::size_t>(y2idx(end_y_[i])) * size_x;
-    if (stamp_[idx] == stamp) continue;
-    stamp_[idx] = stamp;
+void DynamicGridMap::applyHits() {
+  for (const Beam& b : beams_) {
+    if (b.kind != kBeamHit) continue;
+    const std::size_t idx = x2idx(b.end_x) + static_cast<std::size_t>(y2idx(b.end_y)) * m_size_x;
+    if (stamp_[idx] == scan_stamp_) continue;
+    stamp_[idx] = scan_stamp_;
     applyHit(idx);
     ++last_stats_.hit_cells;
   }
+}
 
-  // 5. Then the cells each beam crossed, each at most once.
-  const int cx0 = x2idx(px);
-  const int cy0 = y2idx(py);
-  std::uint32_t freed = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (end_kind_[i] == kBeamNone) continue;
+void DynamicGridMap::planWedges() {
+  // A wedge spans kWedgeBeams adjacent beam gaps and is surely free up to the shortest of its
+  // beams, less a cell so that end cells (and a wall between two end points) are left to the
+  // beams themselves. Wider wedges mean fewer polygon corners, narrower ones shorter tails;
+  // 8 measured best on indoor logs (4 and 16 within a few percent).
+  const std::size_t n = beams_.size();
+  wedges_.clear();
+  for (Beam& b : beams_) b.covered = 0.0;
+  if (n < 2) return;
+  for (std::size_t first = 0; first + 1 < n; first += kWedgeBeams) {
+    const std::size_t last = std::min(first + kWedgeBeams, n - 1);
+    float shortest = std::numeric_limits<float>::max();
+    for (std::size_t i = first; i <= last && shortest > 0.0f; ++i) {
+      shortest = beams_[i].kind == kBeamNone ? 0.0f : std::min(shortest, beams_[i].reach);
+    }
+    const double radius = std::max(0.0, static_cast<double>(shortest) - m_resolution);
+    wedges_.push_back({first, last, radius});
+    // A beam is covered up to the smaller radius of the wedges it borders or lies in.
+    for (std::size_t i = first; i <= last; ++i) {
+      const bool shared = (i == first && first > 0);
+      beams_[i].covered = shared ? std::min(beams_[i].covered, radius) : radius;
+    }
+  }
+  beams_.front().covered = 0.0;  // the outermost beams bound the swept area: trace them whole
+  beams_.back().covered = 0.0;
+}
+
+void DynamicGridMap::sweepFreeArea(const mrpt::poses::CPose2D& sensor) {
+  // The star polygon: the sensor, then each wedge's two corners at its radius.
+  const double inv_res = 1.0 / m_resolution;
+  const GridPoint s{(sensor.x() - m_xMin) * inv_res, (sensor.y() - m_yMin) * inv_res};
+  polygon_.clear();
+  polygon_.push_back(s);
+  for (const Wedge& w : wedges_) {
+    const double rho = w.radius * inv_res;
+    if (rho <= 0.0) {
+      if (polygon_.back().u != s.u || polygon_.back().v != s.v) polygon_.push_back(s);
+      continue;
+    }
+    for (const Beam* b : {&beams_[w.first], &beams_[w.last]}) {
+      polygon_.push_back({s.u + rho * b->cos, s.v + rho * b->sin});
+    }
+  }
+  if (polygon_.size() < 3) return;
+  MissKernel miss = missKernel();
+  const std::size_t size_x = m_size_x;
+  fillPolygon(polygon_, static_cast<int>(m_size_x), static_cast<int>(m_size_y), fill_scratch_,
+              [&miss, size_x](int cy, int cx_begin, int cx_end) {
+                const std::size_t row = static_cast<std::size_t>(cy) * size_x;
+                for (std::size_t idx = row + cx_begin; idx < row + cx_end; ++idx) miss.visit(idx);
+              });
+  last_stats_.free_cells += miss.freed;
+}
+
+DynamicGridMap::MissKernel DynamicGridMap::missKernel() {
+  return {m_map.data(), dyn_.data(),     stamp_.data(), miss_s_.data(), miss_d_.data(),
+          scan_stamp_,  object_cell_, &changed_,     0};
+}
+
+void DynamicGridMap::traceBeamTails(const mrpt::poses::CPose2D& sensor) {
+  const std::size_t size_x = m_size_x;
+  MissKernel miss = missKernel();
+  for (std::size_t i = 0; i < beams_.size(); ++i) {
+    const Beam& b = beams_[i];
+    if (b.kind == kBeamNone) continue;
     ++last_stats_.beams_used;
-    traceRay(cx0, cy0, x2idx(end_x_[i]), y2idx(end_y_[i]), [&](int cx, int cy) {
-      const std::size_t idx = cx + static_cast<std::size_t>(cy) * size_x;
-      if (stamp_[idx] == stamp) return;
-      stamp_[idx] = stamp;
-      applyMiss(idx);
-      ++freed;
+    // Start a cell before the swept area stops covering the beam, so the two join up.
+    const double from = std::max(0.0, b.covered - m_resolution);
+    const double sx = sensor.x() + b.cos * from;
+    const double sy = sensor.y() + b.sin * from;
+    traceRay(x2idx(sx), y2idx(sy), x2idx(b.end_x), y2idx(b.end_y), [&miss, size_x](int cx, int cy) {
+      miss.visit(cx + static_cast<std::size_t>(cy) * size_x);
     });
   }
-  last_stats_.free_cells = freed;
-  last_stats_.inserted = last_stats_.beams_used > 0;
-  return last_stats_.inserted;
+  last_stats_.free_cells += miss.freed;
 }
 
 }  // namespace dynamap

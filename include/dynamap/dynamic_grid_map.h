@@ -8,15 +8,23 @@
 //
 // One pass over each 2D scan updates both layers with the inverse sensor model conditioned on
 // the cell's static state before the scan (DESIGN.md's table): hits are applied first, then the
-// cells the beams crossed, and every cell is updated at most once per scan, so a hit in a cell
-// beats a miss in the same cell.
+// free space, and every cell is updated at most once per scan, so a hit in a cell beats a miss
+// in the same cell.
+//
+// Free space is the area the scan swept: the wedge between two adjacent beams is free up to the
+// shorter of the two ranges less one cell (filled row by row, each cell once), and each beam
+// frees the cells it crosses beyond that (MRPT's ray, from where the wedges stop covering it
+// to its end cell). Near the sensor, where hundreds of beams cross the same cells, each cell is
+// touched once; at depth edges and for lone beams it is exactly MRPT's ray.
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "dynamap/dynamic_map_options.h"
+#include "dynamap/polygon_fill.h"
 
 namespace dynamap {
 
@@ -85,12 +93,45 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
       const std::optional<const mrpt::poses::CPose3D>& robotPose = std::nullopt) override;
   void internal_clear() override;
 
+  // The per-scan steps of insertScan, in order.
   bool insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
                   const mrpt::poses::CPose3D& robot_pose);
+  mrpt::poses::CPose2D computeBeams(const mrpt::obs::CObservation2DRangeScan& scan,
+                                    const mrpt::poses::CPose3D& robot_pose);
+  void growToFit(const mrpt::poses::CPose2D& sensor);
+  void nextStamp();
+  void applyHits();
+  void sweepFreeArea(const mrpt::poses::CPose2D& sensor);
+  void traceBeamTails(const mrpt::poses::CPose2D& sensor);
+  void planWedges();
   /// Re-aligns D and the scan stamps with S after any change of S's geometry.
   void syncLayers();
   void applyHit(std::size_t index);
-  void applyMiss(std::size_t index);
+  /// The miss update with everything it needs in locals: cells are int8, which may alias any
+  /// member, so a loop over members would reload them at every cell.
+  struct MissKernel {
+    cellType* s;
+    cellType* d;
+    std::uint32_t* stamp;
+    const cellType* miss_s;
+    const cellType* miss_d;
+    std::uint32_t mark;
+    cellType object_cell;
+    std::vector<std::uint32_t>* changed;
+    std::uint32_t freed;
+    /// Updates cell `i` as crossed, unless this scan already updated it.
+    inline void visit(std::size_t i) {
+      if (stamp[i] == mark) return;
+      stamp[i] = mark;
+      const cellType before = d[i];
+      s[i] = miss_s[static_cast<std::uint8_t>(s[i])];
+      d[i] = miss_d[static_cast<std::uint8_t>(before)];
+      // A miss only ever lowers D's P(occ): only an object cell can change state.
+      if (before < object_cell && d[i] >= object_cell) changed->push_back(static_cast<std::uint32_t>(i));
+      ++freed;
+    }
+  };
+  MissKernel missKernel();
   void noteChange(std::size_t index, cellType before);
 
   DynamicMapOptions options_;
@@ -110,9 +151,26 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
 
   std::vector<std::uint32_t> changed_;
   ScanInsertStats last_stats_;
+  std::array<cellType, 256> miss_s_{}, miss_d_{};  // a miss's update, by the cell's bits
+
   // Per-scan scratch, kept to avoid reallocations.
-  std::vector<float> end_x_, end_y_;
-  std::vector<std::uint8_t> end_kind_;
+  enum BeamKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
+  struct Beam {
+    double cos = 1, sin = 0;  // direction in the map frame
+    float reach = 0;   // [m] how far the beam frees space (0: not used)
+    float end_x = 0, end_y = 0;
+    BeamKind kind = kBeamNone;
+    double covered = 0;  // [m] the swept wedges free this beam's line up to here
+  };
+  struct Wedge {
+    std::size_t first, last;  // the beams bounding it
+    double radius;            // [m] free up to here
+  };
+  static constexpr std::size_t kWedgeBeams = 8;  // beam gaps per wedge
+  std::vector<Beam> beams_;
+  std::vector<Wedge> wedges_;
+  std::vector<GridPoint> polygon_;
+  PolygonFillScratch fill_scratch_;
 };
 
 /// The int8 log-odds-of-free step for an observation of occupancy probability p (MRPT's scale).
