@@ -20,8 +20,12 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DYNAMAP := $(BUILD_DIR)/dynamap
-DEMO_INPUT ?= rawlogs/demo/demo.rawlog
-DEMO_OUT ?= out/demo
+DEMO_INPUT ?= rawlogs/people/people.rawlog
+DEMO_OUT ?= out/people
+# Real logs live beside the repository when they are there (never committed).
+DATASETS ?= ../shared/datasets
+FREIBURG := $(DATASETS)/carmen/freiburg-079-corrected.log.gz
+BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corridors.rawlog)
 
 .PHONY: all deps configure build test demo bench format clean scenarios
 
@@ -51,10 +55,11 @@ test: build
 
 demo: build
 	$(DYNAMAP) map --config config/default.ini --input $(DEMO_INPUT) --out $(DEMO_OUT)
-	@echo "dynamap: pictures in $(DEMO_OUT)/ (static.png, dynamic.png, overlay.png)"
+	@echo "dynamap: done; pictures in $(DEMO_OUT)/: static.png (the static map S), dynamic.png (D), overlay.png"
 
 bench: build
-	$(BUILD_DIR)/dynamap_bench $(BENCH_ARGS)
+	@[ -f "$(FREIBURG)" ] || echo "dynamap: $(FREIBURG) not found, benchmarking the bundled corridors rawlog"
+	$(BUILD_DIR)/dynamap_bench --input $(BENCH_INPUT) $(BENCH_ARGS)
 
 # Each config/scenarios/<name>.ini writes rawlogs/<name>/<name>.{rawlog,gt.txt,objects.csv,
 # moves.csv,world.png}; the SimBundled tests fail when the committed files are stale.
