@@ -20,6 +20,7 @@ using Args = std::vector<std::string>;
 int runMap(const Args& args);
 int runSimulate(const Args& args);
 int runImportCarmen(const Args& args);
+int runEval(const Args& args);
 
 /// Thrown for a bad command line; main() prints it with a pointer to --help.
 struct UsageError : std::runtime_error {

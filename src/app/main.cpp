@@ -21,6 +21,8 @@ const Command kCommands[] = {
     {"simulate", "run a scenario file: a rawlog with exact ground truth", dynamap::app::runSimulate},
     {"import-carmen", "convert a CARMEN log (.log[.gz]) to an MRPT rawlog with its timestamps",
      dynamap::app::runImportCarmen},
+    {"eval", "score a map result against a scenario's ground truth (paper's Table 3, SA/DA)",
+     dynamap::app::runEval},
 };
 
 void printHelp(std::ostream& out) {

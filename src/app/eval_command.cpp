@@ -1,0 +1,601 @@
+// dynamap eval: a mapping result scored against the simulator's ground truth (issue 5).
+// The metric definitions live in src/evaluation.cpp and docs/evaluation.md; this file reads the
+// files, runs the mapper and the plain MRPT baseline when needed, and writes the reports.
+
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "cli.h"
+#include "dynamap/config_check.h"
+#include "dynamap/evaluation.h"
+#include "dynamap/map_outputs.h"
+#include "dynamap/mapping_run.h"
+#include "dynamap/sim/scenario.h"
+
+namespace dynamap::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* const kUsage =
+    "usage: dynamap eval --scenario FILE --truth PREFIX --result DIR [--config FILE]\n"
+    "       dynamap eval --summary DIR...\n\n"
+    "Scores a `dynamap map` result against the simulator's ground truth: per object move\n"
+    "(the paper's Table 3: correctly detected, not detected, size estimation errors, static\n"
+    "parts detected as objects, latency) and per cell (SA, DA, AA, HA of the static map, and\n"
+    "of a plain MRPT grid built from the same scans; precision and recall of S u D).\n"
+    "PREFIX is the simulator's file prefix (rawlogs/arena/arena) or its directory\n"
+    "(rawlogs/arena). When DIR has no summary.json the mapper runs first (ground-truth\n"
+    "poses, --config). Prints a table and writes DIR/report.md and DIR/metrics.json.\n"
+    "--summary prints one table of several evaluated results beside the paper's Table 3.\n"
+    "Definitions: docs/evaluation.md.";
+
+// ---- reading the truth and the tracks ------------------------------------------------------
+
+/// Lines of a CSV file with a fixed header; every error names file:line.
+class CsvReader {
+ public:
+  CsvReader(const std::string& path, const std::string& header) : path_(path), in_(path) {
+    if (!in_) throw InputError(path + ": cannot open");
+    std::string line;
+    if (!std::getline(in_, line) || trim(line) != header) {
+      throw InputError(path + ":1: expected the header \"" + header + "\"");
+    }
+    line_ = 1;
+    columns_ = static_cast<std::size_t>(std::count(header.begin(), header.end(), ',')) + 1;
+  }
+  /// The next non-empty line's fields, false at the end.
+  bool next(std::vector<std::string>& fields) {
+    std::string line;
+    while (std::getline(in_, line)) {
+      ++line_;
+      line = trim(line);
+      if (line.empty()) continue;
+      fields.clear();
+      std::stringstream s(line);
+      for (std::string f; std::getline(s, f, ',');) fields.push_back(f);
+      if (line.back() == ',') fields.emplace_back();
+      if (fields.size() != columns_) {
+        fail("expected " + std::to_string(columns_) + " fields, got " +
+             std::to_string(fields.size()));
+      }
+      return true;
+    }
+    return false;
+  }
+  double number(const std::string& f, const char* name) const {
+    double v = 0;
+    if (!parseDouble(f, v) || !std::isfinite(v))
+      fail(std::string(name) + ": not a number: '" + f + "'");
+    return v;
+  }
+  long integer(const std::string& f, const char* name) const {
+    long v = 0;
+    if (!parseLong(f, v) || v < 0) fail(std::string(name) + ": not an integer >= 0: '" + f + "'");
+    return v;
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(path_ + ":" + std::to_string(line_) + ": " + what);
+  }
+
+ private:
+  static std::string trim(const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r");
+    const auto e = s.find_last_not_of(" \t\r");
+    return b == std::string::npos ? "" : s.substr(b, e - b + 1);
+  }
+  std::string path_;
+  std::ifstream in_;
+  std::size_t line_ = 0;
+  std::size_t columns_ = 0;
+};
+
+std::vector<TruthRow> readTruthRows(const std::string& path) {
+  CsvReader csv(path, "scan_index,t,kind,id,x,y,diameter,hits");
+  std::vector<TruthRow> rows;
+  for (std::vector<std::string> f; csv.next(f);) {
+    TruthRow r;
+    r.scan_index = static_cast<std::size_t>(csv.integer(f[0], "scan_index"));
+    r.t = csv.number(f[1], "t");
+    if (f[2] == "object")
+      r.kind = sim::BodyKind::Object;
+    else if (f[2] == "person")
+      r.kind = sim::BodyKind::Person;
+    else
+      csv.fail("kind: expected object or person, got '" + f[2] + "'");
+    r.id = static_cast<int>(csv.integer(f[3], "id"));
+    r.x = csv.number(f[4], "x");
+    r.y = csv.number(f[5], "y");
+    r.diameter = csv.number(f[6], "diameter");
+    r.hits = static_cast<int>(csv.integer(f[7], "hits"));
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::vector<TruthMove> readMoves(const std::string& path) {
+  CsvReader csv(path, "move_id,object_id,t_start,t_end,from_x,from_y,to_x,to_y");
+  std::vector<TruthMove> moves;
+  for (std::vector<std::string> f; csv.next(f);) {
+    TruthMove m;
+    m.move_id = static_cast<int>(csv.integer(f[0], "move_id"));
+    m.object_id = static_cast<int>(csv.integer(f[1], "object_id"));
+    m.t_start = csv.number(f[2], "t_start");
+    m.t_end = csv.number(f[3], "t_end");
+    m.from = {csv.number(f[4], "from_x"), csv.number(f[5], "from_y")};
+    m.to = {csv.number(f[6], "to_x"), csv.number(f[7], "to_y")};
+    if (m.t_end < m.t_start) csv.fail("t_end before t_start");
+    moves.push_back(m);
+  }
+  return moves;
+}
+
+std::vector<TrackRow> readTracks(const std::string& path) {
+  CsvReader csv(path, "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max");
+  std::vector<TrackRow> rows;
+  for (std::vector<std::string> f; csv.next(f);) {
+    TrackRow r;
+    r.scan_index = static_cast<std::size_t>(csv.integer(f[0], "scan_index"));
+    r.t = csv.number(f[1], "t");
+    r.object_id = static_cast<int>(csv.integer(f[2], "object_id"));
+    r.cx = csv.number(f[3], "cx");
+    r.cy = csv.number(f[4], "cy");
+    r.size_m = csv.number(f[5], "size_m");
+    r.x_min = csv.number(f[6], "x_min");
+    r.x_max = csv.number(f[7], "x_max");
+    r.y_min = csv.number(f[8], "y_min");
+    r.y_max = csv.number(f[9], "y_max");
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+/// "rawlogs/arena" (a directory) stands for "rawlogs/arena/arena".
+std::string truthPrefix(const std::string& given) {
+  const fs::path p(given);
+  if (fs::is_directory(p)) return (p / p.filename()).string();
+  return given;
+}
+
+// ---- the mapping result -------------------------------------------------------------------
+
+/// Runs `dynamap map` on the rawlog with ground-truth poses into `dir`.
+void runMapper(const std::string& rawlog, const std::string& config_path, const std::string& dir) {
+  MapConfig config = MapConfig::load(IniFile::fromFile(config_path));
+  config.poses = PoseSource::GroundTruth;
+  prepareOutputDir(dir);
+  auto source = openScanSource(rawlog, PoseSource::GroundTruth);
+  Mapper mapper(config);
+  const auto start = std::chrono::steady_clock::now();
+  const InputOutcome outcome = runMapping(*source, mapper);
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!outcome.fault.empty()) throw InputError(outcome.fault);
+  writeMapOutputs(dir, mapper, *source, {rawlog, wall_s, outcome});
+}
+
+mrpt::maps::COccupancyGridMap2D loadGrid(const std::string& path) {
+  if (!fs::exists(path)) throw InputError(path + ": missing (not a dynamap map result?)");
+  mrpt::maps::COccupancyGridMap2D grid;
+  try {
+    mrpt::io::CFileGZInputStream in(path);
+    auto arch = mrpt::serialization::archiveFrom(in);
+    arch >> grid;
+  } catch (const std::exception& e) {
+    throw InputError(path + ": not a readable MRPT gridmap");
+  }
+  return grid;
+}
+
+GridGeometry geometryOf(const mrpt::maps::COccupancyGridMap2D& grid) {
+  return {grid.getXMin(), grid.getYMin(), grid.getResolution(), static_cast<int>(grid.getSizeX()),
+          static_cast<int>(grid.getSizeY())};
+}
+
+/// P(occupied) of `grid` at the centre of every cell of `g` (0.5 outside `grid`): grids of
+/// slightly different extents are compared cell for cell.
+std::vector<float> occupancyOn(const mrpt::maps::COccupancyGridMap2D& grid, const GridGeometry& g) {
+  std::vector<float> out(g.cells(), 0.5f);
+  for (int iy = 0; iy < g.size_y; ++iy) {
+    const int gy = grid.y2idx(g.y_min + (iy + 0.5) * g.resolution);
+    if (gy < 0 || gy >= static_cast<int>(grid.getSizeY())) continue;
+    for (int ix = 0; ix < g.size_x; ++ix) {
+      const int gx = grid.x2idx(g.x_min + (ix + 0.5) * g.resolution);
+      if (gx < 0 || gx >= static_cast<int>(grid.getSizeX())) continue;
+      out[g.index(ix, iy)] = 1.0f - grid.getCell(gx, gy);
+    }
+  }
+  return out;
+}
+
+/// What a user gets without dynamap: MRPT's grid, default insertion options, the same scans and
+/// poses, the resolution and extent of S.
+std::vector<float> plainMrptOccupancy(const std::string& rawlog, const GridGeometry& g) {
+  mrpt::maps::COccupancyGridMap2D grid(
+      static_cast<float>(g.x_min), static_cast<float>(g.x_min + g.size_x * g.resolution),
+      static_cast<float>(g.y_min), static_cast<float>(g.y_min + g.size_y * g.resolution),
+      static_cast<float>(g.resolution));
+  auto source = openScanSource(rawlog, PoseSource::GroundTruth);
+  for (ScanRecord rec; source->next(rec);) {
+    grid.insertObservation(*rec.scan, mrpt::poses::CPose3D(rec.pose));
+  }
+  return occupancyOn(grid, g);
+}
+
+// ---- the evaluation -----------------------------------------------------------------------
+
+struct Evaluation {
+  std::string scenario, truth, result;
+  bool have_tracks = false;
+  std::size_t moves = 0;
+  ObjectScores objects;
+  std::size_t observed = 0;
+  CellScores dynamap, plain;
+  PrecisionRecall union_pr;
+  double object_threshold = 0.85;
+  std::vector<std::string> notes;
+};
+
+double objectThreshold(const std::string& result) {
+  const std::string path = (fs::path(result) / "config.ini").string();
+  if (!fs::exists(path)) return DynamicMapOptions{}.object_threshold;
+  return IniFile::fromFile(path).getDouble("dynamic_map", "object_threshold", 0.85);
+}
+
+void evaluateCells(const sim::Scenario& scenario, const std::vector<TruthRow>& rows,
+                   const std::vector<TruthMove>& moves, const std::string& rawlog, Evaluation& ev) {
+  const auto s_grid = loadGrid((fs::path(ev.result) / "static.gridmap.gz").string());
+  const auto d_grid = loadGrid((fs::path(ev.result) / "dynamic.gridmap.gz").string());
+  const GridGeometry g = geometryOf(s_grid);
+  const auto s_occ = occupancyOn(s_grid, g);
+  const auto d_occ = occupancyOn(d_grid, g);
+  const auto plain = plainMrptOccupancy(rawlog, g);
+  // One set of observed cells for both maps, so their figures share a denominator.
+  const CellMask observed = observedCells({&s_occ, &d_occ, &plain});
+  for (auto o : observed) ev.observed += o;
+  const CellTruth truth = cellTruth(scenario.world, rows, moves, g);
+  ev.dynamap = scoreStaticMap(s_occ, truth, observed, g);
+  ev.plain = scoreStaticMap(plain, truth, observed, g);
+  ev.object_threshold = objectThreshold(ev.result);
+  ev.union_pr = scoreOccupied(unionOccupied(s_occ, d_occ, ev.object_threshold), truth.world_at_end,
+                              observed, g);
+}
+
+// ---- output -------------------------------------------------------------------------------
+
+/// A fixed-format number; NaN prints as `nan_text`.
+std::string num(double v, int decimals, const std::string& nan_text = "null") {
+  if (std::isnan(v)) return nan_text;
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(decimals) << v;
+  return s.str();
+}
+std::string pct(double v) {
+  return num(v, 2, "n/a");
+}
+
+/// The paper's Table 3 column that matches a scenario, or -1.
+int paperColumn(const std::string& scenario) {
+  if (scenario.find("corridor") != std::string::npos) return 2;
+  if (scenario.find("arena") != std::string::npos) return 3;
+  return -1;
+}
+const char* const kPaperNames[4] = {"real corridors", "real arena", "sim corridors", "sim arena"};
+const int kPaperDetected[4] = {19, 19, 20, 20};
+const int kPaperNotDetected[4] = {1, 1, 0, 0};
+const int kPaperStatic[4] = {3, 0, 0, 0};
+const int kPaperSize[4] = {6, 5, 4, 4};
+
+std::string moveStatus(const MoveResult& m) {
+  if (!m.visible) return "never visible";
+  std::string s = m.correct ? "correct" : (m.matched ? "wrong id" : "not detected");
+  if (m.sizeError()) {
+    s += std::string(" + size error (") + (m.wrong_id ? "wrong id" : "") +
+         (m.wrong_id && m.double_match ? ", " : "") + (m.double_match ? "double match" : "") + ")";
+  }
+  return s;
+}
+
+void printTable(std::ostream& o, const Evaluation& ev) {
+  const auto& ob = ev.objects;
+  const int pc = paperColumn(ev.scenario);
+  o << "dynamap eval " << ev.scenario << ": " << ev.moves << " moves, " << ob.visible
+    << " became visible, " << ob.ids.size() << " tracker ids"
+    << (ev.have_tracks ? "" : " (no tracks.csv in the result)") << "\n\n";
+  o << "  object level                    ours"
+    << (pc >= 0 ? std::string("   paper (") + kPaperNames[pc] + ")" : "") << "\n";
+  auto line = [&](const char* what, std::size_t ours, const int* paper) {
+    o << "  " << std::left << std::setw(30) << what << std::right << std::setw(6) << ours;
+    if (pc >= 0) o << std::setw(10) << paper[pc];
+    o << "\n";
+  };
+  line("correctly detected", ob.correct, kPaperDetected);
+  line("not detected", ob.not_detected, kPaperNotDetected);
+  line("static detected as objects", ob.static_as_objects, kPaperStatic);
+  line("size estimation errors", ob.size_errors, kPaperSize);
+  o << "  latency median / max            " << num(ob.latency.median_s, 2, "n/a") << " / "
+    << num(ob.latency.max_s, 2, "n/a") << " s  (" << num(ob.latency.median_scans, 1, "n/a") << " / "
+    << num(ob.latency.max_scans, 0, "n/a") << " scans)\n\n";
+  o << "  cell level (" << ev.observed << " observed cells; " << ev.dynamap.static_cells
+    << " static truth, " << ev.dynamap.dynamic_cells << " dynamic truth)\n"
+    << "  map              SA %     DA %     AA %     HA %\n";
+  for (const auto& [name, c] :
+       {std::pair<const char*, const CellScores&>{"dynamap S  ", ev.dynamap},
+        {"plain MRPT ", ev.plain}}) {
+    o << "  " << name << std::setw(9) << pct(c.sa) << std::setw(9) << pct(c.da) << std::setw(9)
+      << pct(c.aa) << std::setw(9) << pct(c.ha) << "\n";
+  }
+  o << "  S u D at the last scan: precision " << pct(ev.union_pr.precision) << " %, recall "
+    << pct(ev.union_pr.recall) << " %\n";
+  for (const auto& n : ev.notes) o << "  note: " << n << "\n";
+}
+
+void writeCellJson(std::ostream& o, const char* name, const CellScores& c, bool last) {
+  o << "    " << jsonString(name) << ": {\"static_cells\": " << c.static_cells
+    << ", \"static_kept\": " << c.static_kept << ", \"dynamic_cells\": " << c.dynamic_cells
+    << ", \"dynamic_clear\": " << c.dynamic_clear << ", \"sa\": " << num(c.sa, 3)
+    << ", \"da\": " << num(c.da, 3) << ", \"aa\": " << num(c.aa, 3) << ", \"ha\": " << num(c.ha, 3)
+    << "}" << (last ? "\n" : ",\n");
+}
+
+void writeMovesJson(std::ostream& o, const ObjectScores& ob) {
+  o << "  \"moves\": [";
+  for (std::size_t i = 0; i < ob.moves.size(); ++i) {
+    const auto& m = ob.moves[i];
+    o << (i ? ",\n" : "\n") << "    {\"move_id\": " << m.move_id
+      << ", \"object_id\": " << m.object_id << ", \"visible\": " << (m.visible ? "true" : "false")
+      << ", \"visible_scan\": " << (m.visible ? std::to_string(m.visible_scan) : "null")
+      << ", \"visible_t\": " << (m.visible ? num(m.visible_t, 3) : "null")
+      << ", \"matched\": " << (m.matched ? "true" : "false")
+      << ", \"correct\": " << (m.correct ? "true" : "false")
+      << ", \"wrong_id\": " << (m.wrong_id ? "true" : "false")
+      << ", \"double_match\": " << (m.double_match ? "true" : "false")
+      << ", \"latency_s\": " << (m.correct ? num(m.latency_s, 3) : "null")
+      << ", \"latency_scans\": " << (m.correct ? std::to_string(m.latency_scans) : "null") << "}";
+  }
+  o << (ob.moves.empty() ? "],\n" : "\n  ],\n");
+}
+
+void writeIdsJson(std::ostream& o, const ObjectScores& ob) {
+  o << "  \"tracker_ids\": [";
+  for (std::size_t i = 0; i < ob.ids.size(); ++i) {
+    const auto& a = ob.ids[i];
+    o << (i ? ",\n" : "\n") << "    {\"id\": " << a.track_id << ", \"rows\": " << a.rows
+      << ", \"assigned_kind\": "
+      << (a.matches == 0 ? "null"
+                         : jsonString(a.body.kind == sim::BodyKind::Object ? "object" : "person"))
+      << ", \"assigned_id\": " << (a.matches == 0 ? "null" : std::to_string(a.body.id))
+      << ", \"matches\": " << a.matches << ", \"far_rows\": " << a.far_rows
+      << ", \"static_object\": " << (a.static_object ? "true" : "false") << "}";
+  }
+  o << (ob.ids.empty() ? "]\n" : "\n  ]\n");
+}
+
+/// Fixed key order and number formats: the same inputs give the same bytes. The figures of the
+/// summary table come first, one per line, each key unique in the file (--summary reads them).
+void writeMetricsJson(std::ostream& o, const Evaluation& ev) {
+  const auto& ob = ev.objects;
+  o << "{\n"
+    << "  \"scenario\": " << jsonString(ev.scenario) << ",\n"
+    << "  \"truth\": " << jsonString(ev.truth) << ",\n"
+    << "  \"result\": " << jsonString(ev.result) << ",\n"
+    << "  \"tracks_present\": " << (ev.have_tracks ? "true" : "false") << ",\n"
+    << "  \"moves_total\": " << ev.moves << ",\n"
+    << "  \"moves_visible\": " << ob.visible << ",\n"
+    << "  \"correctly_detected\": " << ob.correct << ",\n"
+    << "  \"not_detected\": " << ob.not_detected << ",\n"
+    << "  \"static_detected_as_objects\": " << ob.static_as_objects << ",\n"
+    << "  \"size_estimation_errors\": " << ob.size_errors << ",\n"
+    << "  \"latency_median_s\": " << num(ob.latency.median_s, 3) << ",\n"
+    << "  \"latency_max_s\": " << num(ob.latency.max_s, 3) << ",\n"
+    << "  \"latency_median_scans\": " << num(ob.latency.median_scans, 1) << ",\n"
+    << "  \"latency_max_scans\": " << num(ob.latency.max_scans, 0) << ",\n"
+    << "  \"dynamap_sa\": " << num(ev.dynamap.sa, 3) << ",\n"
+    << "  \"dynamap_da\": " << num(ev.dynamap.da, 3) << ",\n"
+    << "  \"dynamap_aa\": " << num(ev.dynamap.aa, 3) << ",\n"
+    << "  \"dynamap_ha\": " << num(ev.dynamap.ha, 3) << ",\n"
+    << "  \"mrpt_sa\": " << num(ev.plain.sa, 3) << ",\n"
+    << "  \"mrpt_da\": " << num(ev.plain.da, 3) << ",\n"
+    << "  \"mrpt_aa\": " << num(ev.plain.aa, 3) << ",\n"
+    << "  \"mrpt_ha\": " << num(ev.plain.ha, 3) << ",\n"
+    << "  \"union_precision\": " << num(ev.union_pr.precision, 3) << ",\n"
+    << "  \"union_recall\": " << num(ev.union_pr.recall, 3) << ",\n"
+    << "  \"tracker_id_count\": " << ob.ids.size() << ",\n"
+    << "  \"cells\": {\n"
+    << "    \"observed\": " << ev.observed << ",\n"
+    << "    \"object_threshold\": " << num(ev.object_threshold, 3) << ",\n"
+    << "    \"union\": {\"predicted\": " << ev.union_pr.predicted
+    << ", \"predicted_right\": " << ev.union_pr.predicted_right
+    << ", \"truth\": " << ev.union_pr.truth << ", \"truth_found\": " << ev.union_pr.truth_found
+    << "},\n";
+  writeCellJson(o, "dynamap", ev.dynamap, false);
+  writeCellJson(o, "plain_mrpt", ev.plain, true);
+  o << "  },\n";
+  writeMovesJson(o, ob);
+  writeIdsJson(o, ob);
+  o << "}\n";
+}
+
+void writeReport(std::ostream& o, const Evaluation& ev) {
+  o << "# dynamap eval: " << ev.scenario << "\n\n"
+    << "Truth `" << ev.truth << "`, result `" << ev.result
+    << "`. Definitions: docs/evaluation.md in the dynamap sources.\n\n"
+    << "```\n";
+  printTable(o, ev);
+  o << "```\n\n## Moves\n\n"
+    << "| move | object | visible at (s, scan) | outcome | latency (s, scans) |\n"
+    << "|-----:|-------:|---------------------|---------|--------------------|\n";
+  for (const auto& m : ev.objects.moves) {
+    o << "| " << m.move_id << " | " << m.object_id << " | "
+      << (m.visible ? num(m.visible_t, 1) + ", " + std::to_string(m.visible_scan) : "–") << " | "
+      << moveStatus(m) << " | "
+      << (m.correct ? num(m.latency_s, 2) + ", " + std::to_string(m.latency_scans) : "–") << " |\n";
+  }
+  o << "\n## Tracker ids\n\n| id | rows | assigned to | matches | rows far from every body |\n"
+    << "|---:|-----:|-------------|--------:|-------------------------:|\n";
+  for (const auto& a : ev.objects.ids) {
+    o << "| " << a.track_id << " | " << a.rows << " | "
+      << (a.matches == 0 ? std::string("–")
+                         : (a.body.kind == sim::BodyKind::Object ? "object " : "person ") +
+                               std::to_string(a.body.id))
+      << " | " << a.matches << " | " << a.far_rows << (a.static_object ? " (static)" : "")
+      << " |\n";
+  }
+  o << "\n## Pictures\n\n";
+  for (const char* p : {"overlay.png", "static.png", "dynamic.png"}) {
+    if (fs::exists(fs::path(ev.result) / p)) o << "![" << p << "](" << p << ")\n\n";
+  }
+}
+
+// ---- --summary ----------------------------------------------------------------------------
+
+/// The number after `"key": ` in a metrics.json written above (NaN for null).
+double metric(const std::string& text, const std::string& key, const std::string& file) {
+  const std::string needle = "\"" + key + "\": ";
+  const auto at = text.find(needle);
+  if (at == std::string::npos)
+    throw InputError(file + ": no \"" + key + "\" (not eval's metrics.json?)");
+  const std::string rest = text.substr(at + needle.size(), 32);
+  if (rest.rfind("null", 0) == 0) return std::nan("");
+  return std::strtod(rest.c_str(), nullptr);
+}
+
+int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
+  std::vector<std::pair<std::string, std::string>> results;  // name, metrics text
+  for (const auto& d : dirs) {
+    const std::string path = (fs::path(d) / "metrics.json").string();
+    std::ifstream in(path);
+    if (!in) throw InputError(path + ": cannot open (run dynamap eval on " + d + " first)");
+    std::stringstream s;
+    s << in.rdbuf();
+    results.emplace_back(fs::path(d).lexically_normal().filename().string(), s.str());
+  }
+  o << "                              paper (Wolf & Sukhatme, Table 3)          | dynamap\n"
+    << std::left << std::setw(30) << "";
+  for (const auto* n : kPaperNames) o << std::setw(11) << n;
+  o << "| ";
+  for (const auto& r : results) o << std::setw(11) << r.first;
+  o << "\n";
+  struct Row {
+    const char* label;
+    const char* key;
+    const int* paper;
+    int decimals;
+  };
+  const Row rows[] = {
+      {"moves visible", "moves_visible", nullptr, 0},
+      {"correctly detected", "correctly_detected", kPaperDetected, 0},
+      {"not detected", "not_detected", kPaperNotDetected, 0},
+      {"static detected as objects", "static_detected_as_objects", kPaperStatic, 0},
+      {"size estimation errors", "size_estimation_errors", kPaperSize, 0},
+      {"latency median (s)", "latency_median_s", nullptr, 2},
+      {"latency max (s)", "latency_max_s", nullptr, 2},
+      {"SA dynamap / MRPT (%)", "dynamap_sa", nullptr, 2},
+      {"", "mrpt_sa", nullptr, 2},
+      {"DA dynamap / MRPT (%)", "dynamap_da", nullptr, 2},
+      {"", "mrpt_da", nullptr, 2},
+      {"AA dynamap / MRPT (%)", "dynamap_aa", nullptr, 2},
+      {"", "mrpt_aa", nullptr, 2},
+      {"HA dynamap / MRPT (%)", "dynamap_ha", nullptr, 2},
+      {"", "mrpt_ha", nullptr, 2},
+      {"S u D precision (%)", "union_precision", nullptr, 2},
+      {"S u D recall (%)", "union_recall", nullptr, 2},
+  };
+  for (const auto& row : rows) {
+    o << std::left << std::setw(30) << row.label;
+    for (int c = 0; c < 4; ++c) {
+      const std::string p = row.paper ? std::to_string(row.paper[c])
+                                      : (std::string(row.key) == "latency_median_s" ? "1-2" : "");
+      o << std::setw(11) << p;
+    }
+    o << "| ";
+    for (const auto& r : results) {
+      o << std::setw(11) << num(metric(r.second, row.key, r.first), row.decimals, "n/a");
+    }
+    o << "\n";
+  }
+  o << std::right;
+  return kExitOk;
+}
+
+// ---- the command --------------------------------------------------------------------------
+
+Evaluation evaluate(const std::string& scenario_path, const std::string& truth_given,
+                    const std::string& result, const std::string& config_path) {
+  const sim::Scenario scenario = sim::loadScenario(scenario_path);
+  const std::string prefix = truthPrefix(truth_given);
+  const std::string rawlog = prefix + ".rawlog";
+  const auto rows = readTruthRows(prefix + ".objects.csv");
+  const auto moves = readMoves(prefix + ".moves.csv");
+
+  Evaluation ev;
+  ev.scenario = scenario.name;
+  ev.truth = prefix;
+  ev.result = result;
+  ev.moves = moves.size();
+  if (!fs::exists(fs::path(result) / "summary.json")) {
+    std::cerr << "dynamap eval: no mapping result in " << result << ", mapping " << rawlog << "\n";
+    runMapper(rawlog, config_path, result);
+  }
+  const fs::path tracks = fs::path(result) / "tracks.csv";
+  ev.have_tracks = fs::exists(tracks);
+  std::vector<TrackRow> track_rows;
+  if (ev.have_tracks)
+    track_rows = readTracks(tracks.string());
+  else
+    ev.notes.push_back("the result has no tracks.csv: no object was reported");
+  try {
+    ev.objects = evaluateObjects(rows, moves, track_rows);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(tracks.string() + ": " + e.what());
+  }
+  evaluateCells(scenario, rows, moves, rawlog, ev);
+  return ev;
+}
+
+}  // namespace
+
+int runEval(const Args& args) {
+  po::options_description opts("options");
+  opts.add_options()("help,h", "explain the options")(
+      "scenario,s", po::value<std::string>(), "the scenario file the truth was simulated from")(
+      "truth,t", po::value<std::string>(),
+      "the simulator's file prefix (rawlogs/arena/arena) or its directory")(
+      "result,r", po::value<std::string>(), "a dynamap map output directory (mapped if empty)")(
+      "config,c", po::value<std::string>()->default_value("config/default.ini"),
+      "the mapper's configuration, used only when the result must be mapped first")(
+      "summary", po::value<std::vector<std::string>>()->multitoken(),
+      "print one table of these evaluated result directories beside the paper's Table 3");
+  po::positional_options_description positional;
+  po::variables_map vm;
+  if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
+
+  if (vm.count("summary")) {
+    if (vm.count("scenario") || vm.count("truth") || vm.count("result")) {
+      throw UsageError("--summary takes only result directories");
+    }
+    return runSummary(vm["summary"].as<std::vector<std::string>>(), std::cout);
+  }
+  for (const char* k : {"scenario", "truth", "result"}) {
+    if (!vm.count(k)) throw UsageError(std::string("--") + k + " is required");
+  }
+  const std::string result = vm["result"].as<std::string>();
+  const Evaluation ev = evaluate(vm["scenario"].as<std::string>(), vm["truth"].as<std::string>(),
+                                 result, vm["config"].as<std::string>());
+  printTable(std::cout, ev);
+  writeFileAtomically(result, "metrics.json", [&](std::ostream& o) { writeMetricsJson(o, ev); });
+  writeFileAtomically(result, "report.md", [&](std::ostream& o) { writeReport(o, ev); });
+  return kExitOk;
+}
+
+}  // namespace dynamap::app
