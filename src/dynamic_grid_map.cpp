@@ -161,10 +161,24 @@ inline void DynamicGridMap::noteChange(std::size_t index, cellType before) {
   }
 }
 
-inline void DynamicGridMap::applyHit(std::size_t index) {
+bool DynamicGridMap::hitInFreeSpace(std::size_t index) const {
+  if (m_map[index] < free_cell_) return false;
+  // A hit beside a cell S holds occupied is far likelier the wall, seen through range noise or
+  // a grazing beam, than an object standing within a cell of it.
+  const int g = static_cast<int>(options_.wall_guard_cells);
+  const int cx = static_cast<int>(index % m_size_x), cy = static_cast<int>(index / m_size_x);
+  for (int y = std::max(0, cy - g); y <= std::min<int>(m_size_y - 1, cy + g); ++y) {
+    for (int x = std::max(0, cx - g); x <= std::min<int>(m_size_x - 1, cx + g); ++x) {
+      if (m_map[x + static_cast<std::size_t>(y) * m_size_x] < 0) return false;
+    }
+  }
+  return true;
+}
+
+inline void DynamicGridMap::applyHit(std::size_t index, bool in_free_space) {
   const cellType s = m_map[index];
   const cellType d = dyn_[index];
-  if (s >= free_cell_) {  // S knew this cell as free: something moved in
+  if (in_free_space) {  // S knew this cell as free: something moved in
     m_map[index] = clampCell(s + deltas_.s_hit_free, kCellMin);
     dyn_[index] = clampCell(d + deltas_.d_hit_free, d_floor_, d_ceiling_);
   } else {  // NotFree: consistent with a static part of the world
@@ -260,14 +274,17 @@ void DynamicGridMap::nextStamp() {
 }
 
 void DynamicGridMap::applyHits() {
+  // Judge every hit cell against S as it was before this scan, then update them.
+  hits_.clear();
   for (const Beam& b : beams_) {
     if (b.kind != kBeamHit) continue;
     const std::size_t idx = x2idx(b.end_x) + static_cast<std::size_t>(y2idx(b.end_y)) * m_size_x;
     if (stamp_[idx] == scan_stamp_) continue;
     stamp_[idx] = scan_stamp_;
-    applyHit(idx);
-    ++last_stats_.hit_cells;
+    hits_.push_back({idx, hitInFreeSpace(idx)});
   }
+  for (const auto& [idx, in_free_space] : hits_) applyHit(idx, in_free_space);
+  last_stats_.hit_cells = static_cast<std::uint32_t>(hits_.size());
 }
 
 void DynamicGridMap::planWedges() {

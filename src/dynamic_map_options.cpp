@@ -14,7 +14,8 @@ namespace {
 
 const char* const kMapKeys[] = {"resolution", "free_threshold", "object_threshold",
                                 "s_hit_notfree", "s_hit_free", "s_miss", "d_hit_free",
-                                "d_hit_notfree", "d_miss", "d_max", "d_min"};
+                                "d_hit_notfree", "d_miss", "d_max", "d_min",
+                                "wall_guard_cells"};
 
 [[noreturn]] void reject(const std::string& source, const char* section, const char* key,
                          const std::string& why) {
@@ -72,6 +73,7 @@ void DynamicMapOptions::load(const IniFile& ini) {
   d_miss = ini.getDouble(s, "d_miss", d_miss);
   d_max = ini.getDouble(s, "d_max", d_max);
   d_min = ini.getDouble(s, "d_min", d_min);
+  wall_guard_cells = static_cast<int>(ini.getInt(s, "wall_guard_cells", wall_guard_cells));
   validate(ini.name());
 }
 
@@ -96,6 +98,9 @@ void DynamicMapOptions::validate(const std::string& src) const {
   if (!(d_max > object_threshold)) {
     reject(src, sec, "d_max", "must be above object_threshold, or no object is ever seen");
   }
+  if (wall_guard_cells < 0 || wall_guard_cells > 3) {
+    reject(src, sec, "wall_guard_cells", "must be an integer in [0, 3]");
+  }
   requireOpenUnit(src, "d_min", d_min);
   if (!(d_min < object_threshold)) {
     reject(src, sec, "d_min", "must be below object_threshold, or every cell is an object");
@@ -115,7 +120,9 @@ void DynamicMapOptions::writeIni(std::ostream& out) const {
       << "d_hit_notfree = " << d_hit_notfree << "     ; D update, hit after NotFree (< 0.5)\n"
       << "d_miss = " << d_miss << "            ; D update, beam crossed (< 0.5)\n"
       << "d_max = " << d_max << "            ; D saturates at this P(occ)\n"
-      << "d_min = " << d_min << "             ; D never falls below this P(occ)\n";
+      << "d_min = " << d_min << "             ; D never falls below this P(occ)\n"
+      << "wall_guard_cells = " << wall_guard_cells
+      << "    ; hits within this many cells of S-occupied ones are not in free space\n";
 }
 
 void DynamicMapOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

@@ -106,7 +106,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   void planWedges();
   /// Re-aligns D and the scan stamps with S after any change of S's geometry.
   void syncLayers();
-  void applyHit(std::size_t index);
+  bool hitInFreeSpace(std::size_t index) const;
+  void applyHit(std::size_t index, bool in_free_space);
   /// The miss update with everything it needs in locals: cells are int8, which may alias any
   /// member, so a loop over members would reload them at every cell.
   struct MissKernel {
@@ -168,6 +169,7 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   };
   static constexpr std::size_t kWedgeBeams = 8;  // beam gaps per wedge
   std::vector<Beam> beams_;
+  std::vector<std::pair<std::size_t, bool>> hits_;  // cell, S Free there before the scan
   std::vector<Wedge> wedges_;
   std::vector<GridPoint> polygon_;
   PolygonFillScratch fill_scratch_;

@@ -32,6 +32,10 @@ struct DynamicMapOptions : public mrpt::config::CLoadableOptions {
   /// D never grows past this P(occ), so an object that leaves decays below object_threshold in
   /// a few scans instead of the dozens a saturated cell would need; in (object_threshold, 1).
   double d_max = 0.95;
+  /// A hit counts as "in free space" only if no cell within this many cells is occupied in S
+  /// (P(occ) > 0.5): range noise and grazing beams at walls then never look like objects.
+  /// 0 is the paper's rule; in [0, 3].
+  int wall_guard_cells = 1;
   /// D never falls below this P(occ). Without a floor, a cell crossed by beams for minutes
   /// would need as many hits to show an object that then arrives; 0.5 (the prior) makes 5 hits
   /// enough wherever the object appears; in (0, object_threshold).
