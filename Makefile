@@ -7,6 +7,8 @@
 #   make build   only configure and build (Release) into build/
 #   make format  apply .clang-format to every source file
 #   make scenarios  regenerate every bundled rawlog and its ground truth from config/scenarios/
+#   make eval    map every bundled scenario and score it against its ground truth beside the
+#                paper's Table 3 (docs/evaluation.md)
 
 # Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
 # keep the install well below the whole libmrpt-dev metapackage.
@@ -27,7 +29,7 @@ DATASETS ?= ../shared/datasets
 FREIBURG := $(DATASETS)/carmen/freiburg-079-corrected.log.gz
 BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corridors.rawlog)
 
-.PHONY: all deps configure build test demo bench format clean scenarios
+.PHONY: all deps configure build test demo bench format clean scenarios eval
 
 all: build
 
@@ -68,6 +70,19 @@ scenarios: build
 	@for s in $(SCENARIOS); do \
 	  $(DYNAMAP) simulate --scenario config/scenarios/$$s.ini --out rawlogs/$$s || exit 1; \
 	done
+
+# Each scenario is mapped with ground-truth poses into out/<name>/ and evaluated there
+# (report.md, metrics.json); then one table of all of them beside the paper's.
+EVAL_SCENARIOS := arena corridors people
+eval: build
+	@for s in $(EVAL_SCENARIOS); do \
+	  $(DYNAMAP) map --config config/default.ini --poses ground_truth \
+	    --input rawlogs/$$s/$$s.rawlog --out out/$$s || exit 1; \
+	  $(DYNAMAP) eval --scenario config/scenarios/$$s.ini --truth rawlogs/$$s/$$s \
+	    --result out/$$s || exit 1; \
+	  echo; \
+	done
+	@$(DYNAMAP) eval --summary $(addprefix out/,$(EVAL_SCENARIOS))
 
 format:
 	clang-format -i $$(git ls-files '*.h' '*.cpp')

@@ -291,6 +291,8 @@ int paperColumn(const std::string& scenario) {
   return -1;
 }
 const char* const kPaperNames[4] = {"real corridors", "real arena", "sim corridors", "sim arena"};
+const char* const kPaperShortNames[4] = {"real corr.", "real arena", "sim corr.", "sim arena"};
+const int kPaperMoves[4] = {20, 20, 20, 20};
 const int kPaperDetected[4] = {19, 19, 20, 20};
 const int kPaperNotDetected[4] = {1, 1, 0, 0};
 const int kPaperStatic[4] = {3, 0, 0, 0};
@@ -459,68 +461,79 @@ void writeReport(std::ostream& o, const Evaluation& ev) {
 
 // ---- --summary ----------------------------------------------------------------------------
 
-/// The number after `"key": ` in a metrics.json written above (NaN for null).
-double metric(const std::string& text, const std::string& key, const std::string& file) {
+/// The value after `"key": ` in a metrics.json written above, as written there ("n/a" for
+/// null): the summary shows the stored figures, not a second rounding of them.
+std::string metric(const std::string& text, const std::string& key, const std::string& file) {
   const std::string needle = "\"" + key + "\": ";
   const auto at = text.find(needle);
-  if (at == std::string::npos)
-    throw InputError(file + ": no \"" + key + "\" (not eval's metrics.json?)");
-  const std::string rest = text.substr(at + needle.size(), 32);
-  if (rest.rfind("null", 0) == 0) return std::nan("");
-  return std::strtod(rest.c_str(), nullptr);
+  if (at == std::string::npos) {
+    throw InputError(file + ": no \"" + key + "\" (not written by dynamap eval?)");
+  }
+  const auto start = at + needle.size();
+  const std::string value = text.substr(start, text.find_first_of(",\n}", start) - start);
+  return value == "null" ? "n/a" : value;
 }
 
 int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
-  std::vector<std::pair<std::string, std::string>> results;  // name, metrics text
+  struct Result {
+    std::string name, path, text;
+  };
+  std::vector<Result> results;
   for (const auto& d : dirs) {
     const std::string path = (fs::path(d) / "metrics.json").string();
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot open (run dynamap eval on " + d + " first)");
     std::stringstream s;
     s << in.rdbuf();
-    results.emplace_back(fs::path(d).lexically_normal().filename().string(), s.str());
+    fs::path name = fs::path(d).lexically_normal();
+    if (name.filename().empty()) name = name.parent_path();  // "out/arena/"
+    results.push_back({name.filename().string(), path, s.str()});
   }
-  o << "                              paper (Wolf & Sukhatme, Table 3)          | dynamap\n"
-    << std::left << std::setw(30) << "";
-  for (const auto* n : kPaperNames) o << std::setw(11) << n;
+  constexpr int kLabel = 28, kColumn = 11;
+  o << std::left << std::setw(kLabel) << "" << std::setw(4 * kColumn)
+    << "paper (Wolf & Sukhatme, Table 3)"
+    << "| dynamap\n"
+    << std::setw(kLabel) << "";
+  for (const auto* n : kPaperShortNames) o << std::setw(kColumn) << n;
   o << "| ";
-  for (const auto& r : results) o << std::setw(11) << r.first;
+  for (const auto& r : results) o << std::setw(kColumn) << r.name;
   o << "\n";
   struct Row {
     const char* label;
     const char* key;
     const int* paper;
-    int decimals;
   };
   const Row rows[] = {
-      {"moves visible", "moves_visible", nullptr, 0},
-      {"correctly detected", "correctly_detected", kPaperDetected, 0},
-      {"not detected", "not_detected", kPaperNotDetected, 0},
-      {"static detected as objects", "static_detected_as_objects", kPaperStatic, 0},
-      {"size estimation errors", "size_estimation_errors", kPaperSize, 0},
-      {"latency median (s)", "latency_median_s", nullptr, 2},
-      {"latency max (s)", "latency_max_s", nullptr, 2},
-      {"SA dynamap / MRPT (%)", "dynamap_sa", nullptr, 2},
-      {"", "mrpt_sa", nullptr, 2},
-      {"DA dynamap / MRPT (%)", "dynamap_da", nullptr, 2},
-      {"", "mrpt_da", nullptr, 2},
-      {"AA dynamap / MRPT (%)", "dynamap_aa", nullptr, 2},
-      {"", "mrpt_aa", nullptr, 2},
-      {"HA dynamap / MRPT (%)", "dynamap_ha", nullptr, 2},
-      {"", "mrpt_ha", nullptr, 2},
-      {"S u D precision (%)", "union_precision", nullptr, 2},
-      {"S u D recall (%)", "union_recall", nullptr, 2},
+      {"moves", "moves_total", kPaperMoves},
+      {"moves visible", "moves_visible", nullptr},
+      {"correctly detected", "correctly_detected", kPaperDetected},
+      {"not detected", "not_detected", kPaperNotDetected},
+      {"static detected as objects", "static_detected_as_objects", kPaperStatic},
+      {"size estimation errors", "size_estimation_errors", kPaperSize},
+      {"latency median (s)", "latency_median_s", nullptr},
+      {"latency max (s)", "latency_max_s", nullptr},
+      {"SA % dynamap", "dynamap_sa", nullptr},
+      {"SA % plain MRPT", "mrpt_sa", nullptr},
+      {"DA % dynamap", "dynamap_da", nullptr},
+      {"DA % plain MRPT", "mrpt_da", nullptr},
+      {"AA % dynamap", "dynamap_aa", nullptr},
+      {"AA % plain MRPT", "mrpt_aa", nullptr},
+      {"HA % dynamap", "dynamap_ha", nullptr},
+      {"HA % plain MRPT", "mrpt_ha", nullptr},
+      {"S u D precision %", "union_precision", nullptr},
+      {"S u D recall %", "union_recall", nullptr},
   };
   for (const auto& row : rows) {
-    o << std::left << std::setw(30) << row.label;
+    o << std::setw(kLabel) << row.label;
     for (int c = 0; c < 4; ++c) {
+      // The paper gives its latency only as "1-2 s from the change to the table update".
       const std::string p = row.paper ? std::to_string(row.paper[c])
-                                      : (std::string(row.key) == "latency_median_s" ? "1-2" : "");
-      o << std::setw(11) << p;
+                                      : (std::string(row.key) == "latency_max_s" ? "2" : "");
+      o << std::setw(kColumn) << p;
     }
     o << "| ";
     for (const auto& r : results) {
-      o << std::setw(11) << num(metric(r.second, row.key, r.first), row.decimals, "n/a");
+      o << std::setw(kColumn) << metric(r.text, row.key, r.path);
     }
     o << "\n";
   }
