@@ -1,0 +1,68 @@
+// PlainGrid / comparePlain: what a plain MRPT grid keeps that S does not.
+
+#include "dynamap/plain_grid.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_util.h"
+
+namespace dynamap {
+namespace {
+
+using mrpt::poses::CPose2D;
+
+// 181 beams over 90 degrees to a wall at x = 1.0 m; within +-5 degrees of ahead an object at
+// 0.625 m when `object`.
+ScanRecord wallScan(bool object) {
+  constexpr int n = 181;
+  const double aperture = M_PI / 2;
+  std::vector<float> r(n);
+  for (int i = 0; i < n; ++i) {
+    const double a = -aperture / 2 + aperture * i / (n - 1);
+    r[i] = static_cast<float>((object && std::abs(a) < 5 * M_PI / 180 ? 0.625 : 0.975) / std::cos(a));
+  }
+  ScanRecord rec;
+  rec.pose = CPose2D(0, 0, 0);
+  rec.scan = test::makeScan(r, aperture);
+  return rec;
+}
+
+TEST(PlainGrid, AnObjectThatCameLaterStaysInThePlainGridButNotInS) {
+  const DynamicMapOptions opts;
+  const InsertionOptions ins;
+  DynamicGridMap map(opts, ins);
+  PlainGrid plain(opts, ins);
+  for (int k = 0; k < 30; ++k) {
+    const ScanRecord rec = wallScan(k >= 15);
+    map.insertObservation(*rec.scan, mrpt::poses::CPose3D(rec.pose));
+    plain.insert(rec);
+  }
+  const PlainComparison c = comparePlain(map, plain.grid());
+  // The object's face: about 0.1 m wide at 5 cm cells, held by MRPT, Free in S.
+  EXPECT_GE(c.plain_occupied_static_free, 2u);
+  EXPECT_LE(c.plain_occupied_static_free, 6u);
+  // The wall is in both.
+  EXPECT_GT(c.both_occupied, 20u);
+  const int ox = map.x2idx(0.625), oy = map.y2idx(0.0);
+  EXPECT_TRUE(map.isStaticFree(ox, oy));
+  EXPECT_LT(plain.grid().getCell(plain.grid().x2idx(0.625), plain.grid().y2idx(0.0)), 0.5f);
+}
+
+TEST(PlainGrid, IdenticalStaticScenesDifferOnlyAtTheMargins) {
+  const DynamicMapOptions opts;
+  const InsertionOptions ins;
+  DynamicGridMap map(opts, ins);
+  PlainGrid plain(opts, ins);
+  for (int k = 0; k < 20; ++k) {
+    const ScanRecord rec = wallScan(false);
+    map.insertObservation(*rec.scan, mrpt::poses::CPose3D(rec.pose));
+    plain.insert(rec);
+  }
+  const PlainComparison c = comparePlain(map, plain.grid());
+  EXPECT_EQ(c.plain_occupied_static_free, 0u);
+}
+
+}  // namespace
+}  // namespace dynamap
