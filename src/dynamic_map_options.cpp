@@ -25,28 +25,27 @@ const char* const kMapKeys[] = {"resolution", "free_threshold", "object_threshol
 // MRPT's 8-bit cells hold 16 log-odds units per nat: an update must move a cell by >= 1 unit.
 bool movesCell(double p) { return std::abs(16.0 * std::log(p / (1.0 - p))) >= 0.5; }
 
-void requireHigh(const std::string& src, const char* key, double p) {
+// p must lie in (lo, hi), a "high" or "low" model value, and move an 8-bit cell.
+void requireModelValue(const std::string& src, const char* key, double p, bool high) {
+  const double lo = high ? 0.5 : 0.0, hi = high ? 1.0 : 0.5;
   std::ostringstream m;
-  if (!(p > 0.5 && p < 1.0)) {
-    m << p << " must be a high probability, in (0.5, 1)";
+  if (!(p > lo && p < hi)) {
+    m << p << " must be a " << (high ? "high" : "low") << " probability, in (" << lo << ", " << hi
+      << ")";
   } else if (!movesCell(p)) {
-    m << p << " is too close to 0.5 to change an 8-bit cell (use >= 0.508)";
+    m << p << " is too close to 0.5 to change an 8-bit cell (use " << (high ? ">= 0.508" : "<= 0.492")
+      << ")";
   } else {
     return;
   }
   reject(src, DynamicMapOptions::kSection, key, m.str());
 }
 
+void requireHigh(const std::string& src, const char* key, double p) {
+  requireModelValue(src, key, p, true);
+}
 void requireLow(const std::string& src, const char* key, double p) {
-  std::ostringstream m;
-  if (!(p > 0.0 && p < 0.5)) {
-    m << p << " must be a low probability, in (0, 0.5)";
-  } else if (!movesCell(p)) {
-    m << p << " is too close to 0.5 to change an 8-bit cell (use <= 0.492)";
-  } else {
-    return;
-  }
-  reject(src, DynamicMapOptions::kSection, key, m.str());
+  requireModelValue(src, key, p, false);
 }
 
 void requireOpenUnit(const std::string& src, const char* key, double p) {
