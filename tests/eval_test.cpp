@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "dynamap/evaluation.h"
 #include "test_util.h"
@@ -380,6 +381,45 @@ TEST(EvalCommand, TinyScenarioWritesMetricsAndReport) {
   // --summary reads it back.
   ASSERT_EQ(test::run(std::string(DYNAMAP_EXE) + " eval --summary " + out, &output), 0) << output;
   EXPECT_NE(output.find("sim arena"), std::string::npos) << output;
+}
+
+/// A tracks.csv of a perfect tracker: every object seen by a beam, under its own number.
+void writePerfectTracks(const std::string& truth_csv, const std::string& tracks_csv) {
+  std::ifstream in(truth_csv);
+  std::ofstream out(tracks_csv);
+  out << "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n";
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::stringstream s(line);
+    std::vector<std::string> f;
+    for (std::string x; std::getline(s, x, ',');) f.push_back(x);
+    if (f[2] != "object" || f[7] == "0") continue;
+    out << f[0] << "," << f[1] << "," << f[3] << "," << f[4] << "," << f[5] << "," << f[6]
+        << ",0,0,0,0\n";
+  }
+}
+
+TEST(EvalCommand, HandWrittenPerfectTracksAreAllCorrect) {
+  const std::string src = DYNAMAP_SOURCE_DIR;
+  const std::string out = test::tempDir("eval_perfect") + "/result";
+  const std::string cmd = std::string(DYNAMAP_EXE) + " eval --scenario " + src +
+                          "/config/scenarios/tiny.ini --truth " + src + "/rawlogs/tiny --result " +
+                          out;
+  std::string output;
+  ASSERT_EQ(test::run(cmd, &output), 0) << output;  // maps the result first
+  writePerfectTracks(src + "/rawlogs/tiny/tiny.objects.csv", out + "/tracks.csv");
+  ASSERT_EQ(test::run(cmd, &output), 0) << output;
+  const std::string metrics = test::readFile(out + "/metrics.json");
+  EXPECT_NE(metrics.find("\"correctly_detected\": 2,"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\"not_detected\": 0,"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\"static_detected_as_objects\": 0,"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\"latency_max_s\": 0.000,"), std::string::npos) << metrics;
+
+  std::ofstream(out + "/tracks.csv", std::ios::app) << "12,2.4,7,1.0\n";
+  EXPECT_EQ(test::run(cmd, &output), 1) << output;
+  EXPECT_NE(output.find("tracks.csv:"), std::string::npos) << output;
+  EXPECT_NE(output.find("expected 10 fields, got 4"), std::string::npos) << output;
 }
 
 TEST(EvalCommand, MalformedTruthLineNamesFileAndLine) {

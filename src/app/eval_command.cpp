@@ -192,7 +192,8 @@ mrpt::maps::COccupancyGridMap2D loadGrid(const std::string& path) {
     auto arch = mrpt::serialization::archiveFrom(in);
     arch >> grid;
   } catch (const std::exception& e) {
-    throw InputError(path + ": not a readable MRPT gridmap");
+    throw InputError(path + ": not a readable MRPT gridmap (" +
+                     std::string(e.what()).substr(0, 200) + ")");
   }
   return grid;
 }
