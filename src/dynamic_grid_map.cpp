@@ -192,19 +192,27 @@ inline void DynamicGridMap::applyHit(std::size_t index, bool in_free_space) {
 bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
                                 const mrpt::poses::CPose3D& robot_pose) {
   const double tolerance = insertion_.horizontal_tolerance_deg * M_PI / 180.0;
+  last_stats_.skip_reason = "not horizontal";
   if (!scan.isPlanarScan(tolerance)) return false;
   const std::size_t n = scan.getScanSize();
+  last_stats_.skip_reason = "no usable beam";
   if (n == 0 || !(scan.aperture > 0.0f) || !std::isfinite(scan.aperture)) return false;
-  m_likelihoodCacheOutDated = true;
+  last_stats_.skip_reason = "pose not finite";
+  for (double v : {robot_pose.x(), robot_pose.y(), robot_pose.yaw()}) {
+    if (!std::isfinite(v)) return false;
+  }
+  last_stats_.skip_reason = "beyond max_map_size_m";
 
   const mrpt::poses::CPose2D sensor = computeBeams(scan, robot_pose);  // 1. where beams end
-  growToFit(sensor);                                                   // 2. room for them
+  if (!growToFit(sensor)) return false;                                // 2. room for them
+  m_likelihoodCacheOutDated = true;
   nextStamp();                                                         // 3. a fresh scan mark
   applyHits();                                                         // 4. hits first
   planWedges();                                                        // 5. area between beams
   sweepFreeArea(sensor);
   traceBeamTails(sensor);                                              // 6. each beam beyond it
   last_stats_.inserted = last_stats_.beams_used > 0;
+  last_stats_.skip_reason = last_stats_.inserted ? nullptr : "no usable beam";
   return last_stats_.inserted;
 }
 
@@ -249,7 +257,7 @@ mrpt::poses::CPose2D DynamicGridMap::computeBeams(const mrpt::obs::CObservation2
   return sensor;
 }
 
-void DynamicGridMap::growToFit(const mrpt::poses::CPose2D& sensor) {
+bool DynamicGridMap::growToFit(const mrpt::poses::CPose2D& sensor) {
   float min_x = static_cast<float>(sensor.x()), max_x = min_x;
   float min_y = static_cast<float>(sensor.y()), max_y = min_y;
   for (const Beam& b : beams_) {
@@ -262,8 +270,15 @@ void DynamicGridMap::growToFit(const mrpt::poses::CPose2D& sensor) {
   const float slack = m_resolution;  // one cell, so every end point is strictly inside
   if (min_x < m_xMin + slack || max_x > m_xMax - slack || min_y < m_yMin + slack ||
       max_y > m_yMax - slack) {
+    // A pose jump in a log must not make the grid allocate without bound.
+    const double limit = options_.max_map_size_m;
+    if (std::max<double>(max_x, m_xMax) - std::min<double>(min_x, m_xMin) > limit ||
+        std::max<double>(max_y, m_yMax) - std::min<double>(min_y, m_yMin) > limit) {
+      return false;
+    }
     resizeGrid(min_x - slack, max_x + slack, min_y - slack, max_y + slack, 0.5f, true);
   }
+  return true;
 }
 
 void DynamicGridMap::nextStamp() {

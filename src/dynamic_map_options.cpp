@@ -12,7 +12,7 @@
 namespace dynamap {
 namespace {
 
-const char* const kMapKeys[] = {"resolution", "free_threshold", "object_threshold",
+const char* const kMapKeys[] = {"resolution", "max_map_size_m", "free_threshold", "object_threshold",
                                 "s_hit_notfree", "s_hit_free", "s_miss", "d_hit_free",
                                 "d_hit_notfree", "d_miss", "d_max", "d_min",
                                 "wall_guard_cells"};
@@ -62,6 +62,7 @@ void DynamicMapOptions::load(const IniFile& ini) {
   const std::string s = kSection;
   ini.requireKnownKeys(s, {std::begin(kMapKeys), std::end(kMapKeys)});
   resolution = ini.getDouble(s, "resolution", resolution);
+  max_map_size_m = ini.getDouble(s, "max_map_size_m", max_map_size_m);
   free_threshold = ini.getDouble(s, "free_threshold", free_threshold);
   object_threshold = ini.getDouble(s, "object_threshold", object_threshold);
   s_hit_notfree = ini.getDouble(s, "s_hit_notfree", s_hit_notfree);
@@ -81,6 +82,9 @@ void DynamicMapOptions::validate(const std::string& src) const {
   if (!(resolution > 0.0)) reject(src, sec, "resolution", "must be > 0 m");
   if (resolution < 0.005 || resolution > 10.0) {
     reject(src, sec, "resolution", "must be within [0.005, 10] m");
+  }
+  if (!(max_map_size_m >= 1.0 && max_map_size_m <= 10000.0)) {
+    reject(src, sec, "max_map_size_m", "must be within [1, 10000] m");
   }
   requireOpenUnit(src, "free_threshold", free_threshold);
   requireOpenUnit(src, "object_threshold", object_threshold);
@@ -110,6 +114,7 @@ void DynamicMapOptions::writeIni(std::ostream& out) const {
   out << std::setprecision(10);
   out << "[" << kSection << "]\n"
       << "resolution = " << resolution << "        ; [m] cell size of S and D, > 0\n"
+      << "max_map_size_m = " << max_map_size_m << "    ; [m] the grid's largest width or height\n"
       << "free_threshold = " << free_threshold << "    ; S cell is Free below this P(occ)\n"
       << "object_threshold = " << object_threshold << " ; D cell is an object above this P(occ)\n"
       << "s_hit_notfree = " << s_hit_notfree << "     ; S update, hit after NotFree (> 0.5)\n"

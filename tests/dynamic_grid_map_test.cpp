@@ -153,11 +153,30 @@ TEST(DynamicGridMap, SensorPoseOnTheRobotIsApplied) {
   EXPECT_EQ(staticRow(m, 51, 58), (std::vector<int>{0, 6, 6, 6, 6, 6, -14, 0}));
 }
 
+TEST(DynamicGridMap, APoseJumpNeverGrowsTheGridPastMaxMapSize) {
+  DynamicMapOptions o = smallCells();
+  o.max_map_size_m = 50;
+  DynamicGridMap m(o, {}, -5, 5, -5, 5);
+  beamAhead(m, 0.5f);
+  const auto size = m.getRawMap().size();
+  EXPECT_FALSE(m.insertObservation(*makeScan({0.5f}, 0.01), CPose3D(1e6, 0, 0, 0, 0, 0)));
+  EXPECT_STREQ(m.lastInsertStats().skip_reason, "beyond max_map_size_m");
+  EXPECT_FALSE(m.insertObservation(*makeScan({0.5f}, 0.01), CPose3D(std::nan(""), 0, 0, 0, 0, 0)));
+  EXPECT_STREQ(m.lastInsertStats().skip_reason, "pose not finite");
+  EXPECT_EQ(m.getRawMap().size(), size);
+  EXPECT_EQ(m.dynamicRaw().size(), size);
+  // Within the limit the grid still grows.
+  EXPECT_TRUE(m.insertObservation(*makeScan({0.5f}, 0.01), CPose3D(20, 0, 0, 0, 0, 0)));
+  EXPECT_GT(m.getRawMap().size(), size);
+  EXPECT_EQ(m.lastInsertStats().skip_reason, nullptr);
+}
+
 TEST(DynamicGridMap, TiltedScansAreNotInserted) {
   DynamicGridMap m = emptyMap();
   auto scan = makeScan({0.5f}, 0.01);
   scan->sensorPose = CPose3D(0, 0, 0, 0, 0.2, 0);  // pitched 0.2 rad
   EXPECT_FALSE(m.insertObservation(*scan, kRobot));
+  EXPECT_STREQ(m.lastInsertStats().skip_reason, "not horizontal");
   EXPECT_EQ(staticRow(m, 50, 55), (std::vector<int>(6, 0)));
 }
 

@@ -83,6 +83,8 @@ TEST(MapOptions, ResolutionMustBePositive) {
   expectError("[dynamic_map]\nresolution = 0\n", "my.ini: [dynamic_map] resolution: must be > 0 m");
   expectError("[dynamic_map]\nresolution = -0.05\n", "my.ini: [dynamic_map] resolution: must be > 0 m");
   expectError("[dynamic_map]\nresolution = 0.001\n", "my.ini: [dynamic_map] resolution: must be within");
+  expectError("[dynamic_map]\nmax_map_size_m = 0.5\n",
+              "my.ini: [dynamic_map] max_map_size_m: must be within [1, 10000] m");
 }
 
 TEST(MapOptions, UnknownOrMisspelledKeysAndSectionsAreErrors) {

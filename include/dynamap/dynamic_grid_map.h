@@ -30,7 +30,10 @@ namespace dynamap {
 
 /// What the last scan did, for summaries and the object tracker.
 struct ScanInsertStats {
-  bool inserted = false;          ///< false: not a planar 2D scan, or no beam usable
+  bool inserted = false;          ///< false: see skip_reason
+  /// Why the scan was not inserted: "not horizontal", "no usable beam", "pose not finite",
+  /// "beyond max_map_size_m"; nullptr when it was.
+  const char* skip_reason = nullptr;
   std::uint32_t beams_used = 0;   ///< beams that updated at least one cell
   std::uint32_t beams_bad = 0;    ///< NaN, infinite or negative ranges (not inserted)
   std::uint32_t hit_cells = 0;    ///< distinct cells updated as hits
@@ -98,7 +101,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
                   const mrpt::poses::CPose3D& robot_pose);
   mrpt::poses::CPose2D computeBeams(const mrpt::obs::CObservation2DRangeScan& scan,
                                     const mrpt::poses::CPose3D& robot_pose);
-  void growToFit(const mrpt::poses::CPose2D& sensor);
+  /// False (nothing grown) when the scan would take the grid past max_map_size_m.
+  bool growToFit(const mrpt::poses::CPose2D& sensor);
   void nextStamp();
   void applyHits();
   void sweepFreeArea(const mrpt::poses::CPose2D& sensor);
