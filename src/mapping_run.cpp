@@ -1,6 +1,8 @@
 #include "dynamap/mapping_run.h"
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
@@ -11,10 +13,12 @@
 namespace dynamap {
 
 MapConfig MapConfig::load(const IniFile& ini) {
-  ini.requireKnownSections({DynamicMapOptions::kSection, InsertionOptions::kSection, "input"});
+  ini.requireKnownSections(
+      {DynamicMapOptions::kSection, InsertionOptions::kSection, ObjectOptions::kSection, "input"});
   MapConfig c;
   c.map.load(ini);
   c.insertion.load(ini);
+  c.objects.load(ini);
   ini.requireKnownKeys("input", {"poses"});
   const std::string poses = ini.getString("input", "poses", "auto");
   try {
@@ -33,11 +37,14 @@ void MapConfig::writeIni(std::ostream& out) const {
   map.writeIni(out);
   out << "\n";
   insertion.writeIni(out);
+  out << "\n";
+  objects.writeIni(out);
 }
 
 Mapper::Mapper(const MapConfig& config)
     : config_(config),
       map_(config.map, config.insertion),
+      tracker_(config.objects),
       path_step_(std::max(0.05, config.map.resolution)) {}
 
 bool Mapper::process(const ScanRecord& rec) {
@@ -56,6 +63,9 @@ bool Mapper::process(const ScanRecord& rec) {
     return false;
   }
   ++counts_.scans_used;
+  // Objects, from the D cells this scan changed and the scan's view of known places.
+  tracker_.update(map_, makeScanView(*rec.scan, rec.pose, config_.insertion.max_distance_insertion),
+                  rec.t, rec.index);
   const PathPoint p{rec.pose.x(), rec.pose.y()};
   if (path_.empty() || std::hypot(p.x - path_.back().x, p.y - path_.back().y) >= path_step_) {
     path_.push_back(p);
@@ -81,6 +91,96 @@ InputOutcome runMapping(ScanSource& source, Mapper& mapper,
 }
 
 namespace {
+
+// Fixed formats: outputs are byte-identical between runs of the same input.
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+}  // namespace
+
+TrackLog::TrackLog(const std::string& dir)
+    : dir_(dir), tmp_((std::filesystem::path(dir) / ".tmp-tracks.csv").string()) {
+  out_ = std::make_unique<std::ofstream>(tmp_, std::ios::binary | std::ios::trunc);
+  if (!*out_) throw std::runtime_error(dir + "/tracks.csv: cannot write");
+  *out_ << "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n";
+}
+
+TrackLog::~TrackLog() {
+  if (!out_) return;
+  out_.reset();
+  std::error_code ec;
+  std::filesystem::remove(tmp_, ec);  // not finished: leave no half-written file
+}
+
+void TrackLog::append(std::size_t scan_index, double t, const ObjectTracker& tracker) {
+  for (const TrackedObject& o : tracker.objects()) {
+    if (o.state != ObjectState::Present) continue;
+    const ShapeEstimate& s = o.shape;
+    *out_ << scan_index << ',' << fmt("%.6f", t) << ',' << o.id << ',' << fmt("%.3f", s.cx) << ','
+          << fmt("%.3f", s.cy) << ',' << fmt("%.3f", s.size) << ',' << fmt("%.3f", s.x_min) << ','
+          << fmt("%.3f", s.x_max) << ',' << fmt("%.3f", s.y_min) << ',' << fmt("%.3f", s.y_max)
+          << '\n';
+  }
+}
+
+void TrackLog::finish() {
+  out_->flush();
+  const bool ok = static_cast<bool>(*out_);
+  out_.reset();
+  std::error_code ec;
+  if (ok) std::filesystem::rename(tmp_, std::filesystem::path(dir_) / "tracks.csv", ec);
+  if (!ok || ec) {
+    std::filesystem::remove(tmp_, ec);
+    throw std::runtime_error(dir_ + "/tracks.csv: cannot write");
+  }
+}
+
+void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {
+  o << "id,label,size_m,cx,cy,x_min,x_max,y_min,y_max,state,first_seen_t,last_seen_t,n_moves\n";
+  for (const TrackedObject& ob : tracker.objects()) {
+    const ShapeEstimate& s = ob.shape;
+    o << ob.id << ',' << ob.label << ',' << fmt("%.3f", s.size) << ',' << fmt("%.3f", s.cx) << ','
+      << fmt("%.3f", s.cy) << ',' << fmt("%.3f", s.x_min) << ',' << fmt("%.3f", s.x_max) << ','
+      << fmt("%.3f", s.y_min) << ',' << fmt("%.3f", s.y_max) << ',' << toString(ob.state) << ','
+      << fmt("%.6f", ob.first_seen_t) << ',' << fmt("%.6f", ob.last_seen_t) << ',' << ob.n_moves
+      << '\n';
+  }
+}
+
+void writeEventsCsv(std::ostream& o, const ObjectTracker& tracker) {
+  o << "t,scan_index,object_id,event,cx,cy,size_m\n";
+  for (const EventRecord& e : tracker.events()) {
+    o << fmt("%.6f", e.t) << ',' << e.scan_index << ',' << e.object_id << ',' << toString(e.event)
+      << ',' << fmt("%.3f", e.cx) << ',' << fmt("%.3f", e.cy) << ',' << fmt("%.3f", e.size)
+      << '\n';
+  }
+}
+
+namespace {
+
+void writeObjectSummary(std::ostream& o, const ObjectTracker& tracker) {
+  std::size_t present = 0, absent = 0;
+  for (const TrackedObject& ob : tracker.objects()) {
+    (ob.state == ObjectState::Present ? present : absent) += 1;
+  }
+  std::map<std::string, std::size_t> by_event{
+      {"new", 0}, {"moved", 0}, {"disappeared", 0}, {"reappeared", 0}};
+  for (const EventRecord& e : tracker.events()) ++by_event[toString(e.event)];
+  o << "  \"objects\": {\n"
+    << "    \"enabled\": " << (tracker.options().enabled ? "true" : "false") << ",\n"
+    << "    \"total\": " << tracker.objects().size() << ",\n"
+    << "    \"by_state\": {\"present\": " << present << ", \"absent\": " << absent << "},\n"
+    << "    \"events\": {";
+  bool first = true;
+  for (const auto& kv : by_event) {
+    o << (first ? "" : ", ") << jsonString(kv.first) << ": " << kv.second;
+    first = false;
+  }
+  o << "}\n  },\n";
+}
 
 void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& source,
                   const OutputInfo& info) {
@@ -117,7 +217,7 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
     << "    \"last_t\": " << c.last_t << std::defaultfloat << std::setprecision(10) << "\n"
     << "  },\n"
     << "  \"map\": {\n"
-    << "    \"resolution_m\": " << m.getResolution() << ",\n"
+    << std::setprecision(6) << "    \"resolution_m\": " << m.getResolution() << ",\n"
     << "    \"size_cells\": [" << m.getSizeX() << ", " << m.getSizeY() << "],\n"
     << "    \"x_min\": " << m.getXMin() << ", \"x_max\": " << m.getXMax() << ",\n"
     << "    \"y_min\": " << m.getYMin() << ", \"y_max\": " << m.getYMax() << "\n"
@@ -126,8 +226,9 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
     << "    \"static_occupied\": " << cells.static_occupied << ",\n"
     << "    \"static_free\": " << cells.static_free << ",\n"
     << "    \"dynamic_occupied\": " << cells.dynamic_occupied << "\n"
-    << "  },\n"
-    << "  \"timing\": {\n"
+    << "  },\n";
+  writeObjectSummary(o, mapper.tracker());
+  o << "  \"timing\": {\n"
     << "    \"note\": \"the only part of the outputs that differs between identical runs\",\n"
     << "    \"wall_s\": " << std::fixed << std::setprecision(3) << info.wall_s << ",\n"
     << "    \"scans_per_s\": " << std::setprecision(1)
@@ -143,12 +244,17 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
   const DynamicGridMap& m = mapper.map();
   saveImageAtomically(renderStatic(m), dir, "static.png");
   saveImageAtomically(renderDynamic(m), dir, "dynamic.png");
-  saveImageAtomically(renderOverlay(m, mapper.path(), overlayScale(m.getSizeX())), dir,
-                      "overlay.png");
+  saveImageAtomically(renderOverlay(m, mapper.path(), overlayScale(m.getSizeX()),
+                                    &mapper.tracker().objects()),
+                      dir, "overlay.png");
   writeGridmap(m, dir, "static.gridmap.gz");
   writeDynamicGridmap(m, dir, "dynamic.gridmap.gz");
   writeRosMap(m, dir, "static");
   writeFileAtomically(dir, "config.ini", [&](std::ostream& o) { mapper.config().writeIni(o); });
+  writeFileAtomically(dir, "objects.csv",
+                      [&](std::ostream& o) { writeObjectsCsv(o, mapper.tracker()); });
+  writeFileAtomically(dir, "events.csv",
+                      [&](std::ostream& o) { writeEventsCsv(o, mapper.tracker()); });
   writeFileAtomically(dir, "summary.json",
                       [&](std::ostream& o) { writeSummary(o, mapper, source, info); });
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 namespace dynamap {
 namespace {
@@ -81,7 +83,8 @@ Pixel toPixel(const DynamicGridMap& map, int scale, double x, double y) {
           static_cast<int>(std::floor((map.getSizeY() - fy) * scale))};
 }
 
-CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path, int scale) {
+CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path, int scale,
+                     const std::vector<TrackedObject>* objects) {
   CImage img = paintCells(map, scale, [&](std::size_t i) {
     if (map.isObjectIndex(i)) return Bgr{0, 0, 230};
     const std::uint8_t g = grey(map, i);
@@ -93,7 +96,38 @@ CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& pa
     const Pixel b = toPixel(map, scale, path[k].x, path[k].y);
     img.line(a.x, a.y, b.x, b.y, blue, 1);
   }
+  if (objects) drawObjects(img, map, scale, *objects);
   return img;
+}
+
+void drawObjects(CImage& img, const DynamicGridMap& map, int scale,
+                 const std::vector<TrackedObject>& objects) {
+  const mrpt::img::TColor box(0, 150, 0), text(0, 0, 0), label_bg(255, 240, 120);
+  // Big pictures get the bigger font; 6x13 keeps labels readable on small maps.
+  const bool big = img.getWidth() >= 1000;
+  img.selectTextFont(big ? "9x15B" : "6x13B");
+  const int char_w = big ? 9 : 6, char_h = big ? 15 : 13;
+  const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
+  for (const TrackedObject& o : objects) {
+    if (o.state != ObjectState::Present) continue;
+    const ShapeEstimate& s = o.shape;
+    const Pixel p0 = toPixel(map, scale, s.x_min, s.y_max);
+    const Pixel p1 = toPixel(map, scale, s.x_max, s.y_min);
+    // At least a few pixels around the object, so that small ones stay visible.
+    const int pad = std::max(2, scale / 2);
+    img.rectangle(p0.x - pad, p0.y - pad, p1.x + pad, p1.y + pad, box, 2);
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%d: %.2f m", o.id, s.size);
+    const std::string label = buf;
+    const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
+    int lx = p0.x - pad, ly = p0.y - pad - lh - 1;
+    if (ly < 0) ly = p1.y + pad + 2;  // no room above: below the box
+    lx = std::clamp(lx, 0, std::max(0, w - lw - 1));
+    ly = std::clamp(ly, 0, std::max(0, h - lh - 1));
+    img.filledRectangle(lx, ly, lx + lw, ly + lh, label_bg);
+    img.rectangle(lx, ly, lx + lw, ly + lh, box, 1);
+    img.textOut(lx + 2, ly + 1, label, text);
+  }
 }
 
 }  // namespace dynamap

@@ -3,12 +3,15 @@
 
 #include <cstdint>
 #include <functional>
+#include <fstream>
 #include <iosfwd>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "dynamap/dynamic_grid_map.h"
+#include "dynamap/object_tracker.h"
 #include "dynamap/render.h"
 #include "dynamap/scan_source.h"
 
@@ -20,6 +23,7 @@ class IniFile;
 struct MapConfig {
   DynamicMapOptions map;
   InsertionOptions insertion;
+  ObjectOptions objects;
   PoseSource poses = PoseSource::Auto;  ///< [input] poses
 
   /// Strict: unknown sections or keys, bad values: ConfigError naming file, section and key.
@@ -37,7 +41,7 @@ struct RunCounts {
   double first_t = 0, last_t = 0;
 };
 
-/// The per-scan step: insert into S and D, extend the robot's path.
+/// The per-scan step: insert into S and D, update the object table, extend the robot's path.
 class Mapper {
  public:
   explicit Mapper(const MapConfig& config);
@@ -47,6 +51,7 @@ class Mapper {
 
   const DynamicGridMap& map() const { return map_; }
   DynamicGridMap& map() { return map_; }
+  const ObjectTracker& tracker() const { return tracker_; }
   const std::vector<PathPoint>& path() const { return path_; }
   const RunCounts& counts() const { return counts_; }
   const MapConfig& config() const { return config_; }
@@ -54,11 +59,36 @@ class Mapper {
  private:
   MapConfig config_;
   DynamicGridMap map_;
+  ObjectTracker tracker_;
   std::vector<PathPoint> path_;  // decimated: a point every path_step_ metres
   double path_step_;
   RunCounts counts_;
   bool have_t_ = false;
 };
+
+/// tracks.csv, streamed while the run goes: after every scan, one row per present object
+/// (`scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max`). Written under a temporary
+/// name and renamed by finish(), so an interrupted run leaves no tracks.csv; rows are never
+/// kept in memory.
+class TrackLog {
+ public:
+  /// Opens the temporary file in `dir` (which must exist); throws std::runtime_error.
+  explicit TrackLog(const std::string& dir);
+  ~TrackLog();
+  TrackLog(const TrackLog&) = delete;
+  TrackLog& operator=(const TrackLog&) = delete;
+  void append(std::size_t scan_index, double t, const ObjectTracker& tracker);
+  /// Flushes and renames to tracks.csv; throws on I/O errors.
+  void finish();
+
+ private:
+  std::string dir_, tmp_;
+  std::unique_ptr<std::ofstream> out_;
+};
+
+/// Writers of the object table, exact and fixed-format (byte-identical between runs).
+void writeObjectsCsv(std::ostream& out, const ObjectTracker& tracker);
+void writeEventsCsv(std::ostream& out, const ObjectTracker& tracker);
 
 /// What happened to the input: empty `fault` means it was read to its end.
 struct InputOutcome {

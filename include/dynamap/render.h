@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dynamap/dynamic_grid_map.h"
+#include "dynamap/object_tracker.h"
 
 namespace dynamap {
 
@@ -26,10 +27,16 @@ mrpt::img::CImage renderDynamic(const DynamicGridMap& map);
 /// (capped at 8; 1 for grids already that wide).
 int overlayScale(unsigned size_x, unsigned min_width = 800);
 
-/// S in grey levels, D cells above object_threshold in red, the robot's path as a thin blue line.
+/// S in grey levels, D cells above object_threshold in red, the robot's path as a thin blue line,
+/// and, given `objects`, each present object's box and circle with a label "<id>: <size> m".
 /// `scale` pixels per cell.
 mrpt::img::CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
-                                int scale);
+                                int scale, const std::vector<TrackedObject>* objects = nullptr);
+
+/// Draws each present object of `objects` on an image of `map` at `scale` px per cell: its box,
+/// its estimated outline, and its label on a filled background, kept inside the image.
+void drawObjects(mrpt::img::CImage& img, const DynamicGridMap& map, int scale,
+                 const std::vector<TrackedObject>& objects);
 
 /// Pixel of a world point in an image of `map` drawn at `scale` pixels per cell (north up).
 struct Pixel {
