@@ -177,10 +177,14 @@ void runMapper(const std::string& rawlog, const std::string& config_path, const 
   auto source = openScanSource(rawlog, PoseSource::GroundTruth);
   Mapper mapper(config);
   const auto start = std::chrono::steady_clock::now();
-  const InputOutcome outcome = runMapping(*source, mapper);
+  TrackLog tracks(dir);  // tracks.csv, as `dynamap map` streams it
+  const InputOutcome outcome = runMapping(*source, mapper, [&](const ScanRecord& rec) {
+    tracks.append(rec.index, rec.t, mapper.tracker());
+  });
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!outcome.fault.empty()) throw InputError(outcome.fault);
+  tracks.finish();  // before summary.json, whose presence means "a complete result"
   writeMapOutputs(dir, mapper, *source, {rawlog, wall_s, outcome});
 }
 
@@ -301,10 +305,13 @@ const int kPaperSize[4] = {6, 5, 4, 4};
 
 std::string moveStatus(const MoveResult& m) {
   if (!m.visible) return "never visible";
-  std::string s = m.correct ? "correct" : (m.matched ? "wrong id" : "not detected");
+  if (!m.matched) return "not detected";
+  std::string s = m.correct ? "correct" : "";
   if (m.sizeError()) {
-    s += std::string(" + size error (") + (m.wrong_id ? "wrong id" : "") +
-         (m.wrong_id && m.double_match ? ", " : "") + (m.double_match ? "double match" : "") + ")";
+    const std::string why = m.wrong_id && m.double_match ? "wrong id, double match"
+                            : m.wrong_id                 ? "wrong id"
+                                                         : "double match";
+    s += (s.empty() ? "" : " + ") + std::string("size error (") + why + ")";
   }
   return s;
 }
@@ -495,9 +502,10 @@ int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
     << "paper (Wolf & Sukhatme, Table 3)"
     << "| dynamap\n"
     << std::setw(kLabel) << "";
-  for (const auto* n : kPaperShortNames) o << std::setw(kColumn) << n;
+  // One blank at least between columns, however long a result's name.
+  for (const auto* n : kPaperShortNames) o << std::setw(kColumn - 1) << n << ' ';
   o << "| ";
-  for (const auto& r : results) o << std::setw(kColumn) << r.name;
+  for (const auto& r : results) o << std::setw(kColumn - 1) << r.name << ' ';
   o << "\n";
   struct Row {
     const char* label;
@@ -530,11 +538,11 @@ int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
       // The paper gives its latency only as "1-2 s from the change to the table update".
       const std::string p = row.paper ? std::to_string(row.paper[c])
                                       : (std::string(row.key) == "latency_max_s" ? "2" : "");
-      o << std::setw(kColumn) << p;
+      o << std::setw(kColumn - 1) << p << ' ';
     }
     o << "| ";
     for (const auto& r : results) {
-      o << std::setw(kColumn) << metric(r.text, row.key, r.path);
+      o << std::setw(kColumn - 1) << metric(r.text, row.key, r.path) << ' ';
     }
     o << "\n";
   }
