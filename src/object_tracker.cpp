@@ -185,6 +185,28 @@ double minorAxisStd(const std::vector<double>& xs, const std::vector<double>& ys
   return std::sqrt(std::max(0.0, minor));
 }
 
+// Moves `c` (from a free fit) to the centre that best puts the points at distance r from it.
+void fitCentre(const std::vector<double>& xs, const std::vector<double>& ys, double r, Circle& c) {
+  double a = c.cx, b = c.cy;
+  for (int it = 0; it < 15; ++it) {
+    Eigen::Matrix2d jtj = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d jtr = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      const double dx = xs[i] - a, dy = ys[i] - b;
+      const double d = std::max(1e-12, std::hypot(dx, dy));
+      const Eigen::Vector2d j(-dx / d, -dy / d);
+      jtj += j * j.transpose();
+      jtr += j * (d - r);
+    }
+    if (std::abs(jtj.determinant()) < 1e-12) break;
+    const Eigen::Vector2d step = jtj.ldlt().solve(-jtr);
+    a += step(0);
+    b += step(1);
+    if (step.norm() < 1e-7) break;
+  }
+  if (std::isfinite(a) && std::isfinite(b)) c = {a, b, r};
+}
+
 }  // namespace
 
 ShapeEstimate estimateShape(const std::vector<CellXY>& cells, double res,
@@ -219,18 +241,25 @@ ShapeEstimate estimateShape(const std::vector<CellXY>& cells, double res,
   s.length = width;
   Circle c{};
   if (static_cast<int>(cells.size()) >= options.min_fit_cells && fitCircle(xs, ys, c)) {
-    const double d = 2 * c.r;
+    double d = 2 * c.r;
     // Sane: as wide as the cells at least (less a cell of quantisation), not much wider than
     // them (a short arc of a huge circle is a wall, not a cylinder), within max_size.
     if (d >= width - res && d <= 1.6 * (width + res) && d <= options.max_size) {
+      // An arc of grid cells looks flatter than the surface: the fit overshoots, while a
+      // convex object's outline is exactly as wide as the object. Keep the smaller, and centre
+      // the circle of that size on the cells.
+      if (d > width + res) {
+        d = width + res;
+        fitCentre(xs, ys, 0.5 * d, c);
+      }
       s.circle = true;
       s.cx = c.cx;
       s.cy = c.cy;
       s.size = d;
-      s.x_min = c.cx - c.r;
-      s.x_max = c.cx + c.r;
-      s.y_min = c.cy - c.r;
-      s.y_max = c.cy + c.r;
+      s.x_min = c.cx - 0.5 * d;
+      s.x_max = c.cx + 0.5 * d;
+      s.y_min = c.cy - 0.5 * d;
+      s.y_max = c.cy + 0.5 * d;
       return s;
     }
   }

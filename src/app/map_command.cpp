@@ -1,6 +1,8 @@
 // dynamap map: a log in, the static map, the dynamic map and their pictures out.
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 
@@ -13,31 +15,66 @@ namespace dynamap::app {
 namespace {
 
 const char* const kUsage =
-    "usage: dynamap map --input FILE [--config FILE] [--out DIR] [--poses SOURCE] [--verbose]\n\n"
+    "usage: dynamap map --input FILE [--config FILE] [--out DIR] [--poses SOURCE]\n"
+    "                   [--frames-every N] [--verbose]\n\n"
     "Builds the static map S and the dynamic map D from a log (MRPT rawlog, MRPT simplemap or\n"
     "CARMEN log, plain or gz, told apart by content) and writes into DIR: static.png,\n"
     "dynamic.png, overlay.png, static.gridmap.gz and dynamic.gridmap.gz (MRPT),\n"
-    "static.pgm + static.yaml (ROS map_server), config.ini (the effective configuration)\n"
-    "and summary.json.";
+    "static.pgm + static.yaml (ROS map_server), config.ini (the effective configuration),\n"
+    "summary.json, and the object table: objects.csv, events.csv, tracks.csv.\n"
+    "--frames-every N also writes frames/NNNNNN.png (the overlay after scan N, 2N, ...) and,\n"
+    "when ffmpeg is installed, timelapse.mp4.";
+
+// The overlay as it is now, with the objects present now.
+void writeFrame(const std::string& dir, const Mapper& mapper, std::size_t scan_index) {
+  const auto& m = mapper.map();
+  char name[32];
+  std::snprintf(name, sizeof name, "%06zu.png", scan_index);
+  saveImageAtomically(
+      renderOverlay(m, mapper.path(), overlayScale(m.getSizeX()), &mapper.tracker().objects()), dir,
+      name);
+}
+
+// Frames into timelapse.mp4 when ffmpeg is on PATH; a note on stderr otherwise.
+void writeTimelapse(const std::string& out_dir, const std::string& frames_dir) {
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+    std::cerr << "dynamap map: ffmpeg not found, timelapse.mp4 skipped (frames are in "
+              << frames_dir << "/)\n";
+    return;
+  }
+  // Frames differ in size when the map grew: pad each to the last (largest) one's size.
+  const std::string tmp = out_dir + "/.tmp-timelapse.mp4";
+  const std::string cmd =
+      "ffmpeg -loglevel error -y -framerate 10 -pattern_type glob -i '" + frames_dir +
+      "/*.png' -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p '" + tmp +
+      "' && mv '" + tmp + "' '" + out_dir + "/timelapse.mp4'";
+  if (std::system(cmd.c_str()) != 0) {
+    std::cerr << "dynamap map: warning: ffmpeg failed, timelapse.mp4 not written\n";
+  }
+}
 
 }  // namespace
 
 int runMap(const Args& args) {
   po::options_description opts("options");
-  opts.add_options()("help,h", "explain the options")(
-      "input,i", po::value<std::string>()->required(), "the log to map (rawlog, simplemap, CARMEN)")(
+  opts.add_options()("help,h", "explain the options")("input,i",
+                                                      po::value<std::string>()->required(),
+                                                      "the log to map (rawlog, simplemap, CARMEN)")(
       "config,c", po::value<std::string>(),
       "the .ini configuration (default: built-in defaults = config/default.ini)")(
       "out,o", po::value<std::string>()->default_value("out"), "output directory (created)")(
       "poses", po::value<std::string>(),
       "pose source: auto | simplemap | ground_truth | odometry (overrides [input] poses)")(
+      "frames-every", po::value<long>(),
+      "write frames/NNNNNN.png every N scans (and timelapse.mp4 with ffmpeg)")(
       "verbose,v", "print progress and a summary even when not on a terminal");
   po::positional_options_description positional;
   po::variables_map vm;
   if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
 
   MapConfig config;
-  if (vm.count("config")) config = MapConfig::load(IniFile::fromFile(vm["config"].as<std::string>()));
+  if (vm.count("config"))
+    config = MapConfig::load(IniFile::fromFile(vm["config"].as<std::string>()));
   if (vm.count("poses")) {
     try {
       config.poses = parsePoseSource(vm["poses"].as<std::string>());
@@ -48,20 +85,35 @@ int runMap(const Args& args) {
   const std::string input = vm["input"].as<std::string>();
   const std::string out_dir = vm["out"].as<std::string>();
   const bool verbose = vm.count("verbose") > 0;
+  long frames_every = 0;
+  if (vm.count("frames-every")) {
+    frames_every = vm["frames-every"].as<long>();
+    if (frames_every < 1) throw UsageError("--frames-every: must be a positive number of scans");
+  }
 
   prepareOutputDir(out_dir);  // before any work: an unwritable directory fails fast
   auto source = openScanSource(input, config.poses);
   Mapper mapper(config);
   Progress progress(verbose || stderrIsTerminal());
+  TrackLog tracks(out_dir);  // streamed: rows are never kept in memory
+  const std::string frames_dir = out_dir + "/frames";
+  if (frames_every > 0) prepareOutputDir(frames_dir);
 
   const auto start = std::chrono::steady_clock::now();
-  const InputOutcome outcome = runMapping(*source, mapper, [&](const ScanRecord&) {
+  const InputOutcome outcome = runMapping(*source, mapper, [&](const ScanRecord& rec) {
+    tracks.append(rec.index, rec.t, mapper.tracker());
+    if (frames_every > 0 && rec.index % static_cast<std::size_t>(frames_every) == 0) {
+      writeFrame(frames_dir, mapper, rec.index);
+    }
     progress.update(source->fractionRead(), mapper.counts().scans_used);
   });
   progress.finish();
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  tracks.finish();
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   writeMapOutputs(out_dir, mapper, *source, {input, wall_s, outcome});
+  if (frames_every > 0) writeTimelapse(out_dir, frames_dir);
 
   if (verbose || stderrIsTerminal()) {
     const auto& c = mapper.counts();
