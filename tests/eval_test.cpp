@@ -405,7 +405,7 @@ TEST(EvalCommand, HandWrittenPerfectTracksAreAllCorrect) {
   const std::string out = test::tempDir("eval_perfect") + "/result";
   const std::string cmd = std::string(DYNAMAP_EXE) + " eval --scenario " + src +
                           "/config/scenarios/tiny.ini --truth " + src + "/rawlogs/tiny --result " +
-                          out;
+                          out + " --config " + src + "/config/default.ini";
   std::string output;
   ASSERT_EQ(test::run(cmd, &output), 0) << output;  // maps the result first
   writePerfectTracks(src + "/rawlogs/tiny/tiny.objects.csv", out + "/tracks.csv");
