@@ -58,8 +58,7 @@ bool Mapper::process(const ScanRecord& rec) {
   const ScanInsertStats& st = map_.lastInsertStats();
   counts_.beams_bad += st.beams_bad;
   if (!st.inserted) {
-    const bool planar = rec.scan->isPlanarScan(config_.insertion.horizontal_tolerance_deg * M_PI / 180.0);
-    ++counts_.scans_skipped[planar ? "no usable beam" : "not horizontal"];
+    ++counts_.scans_skipped[st.skip_reason ? st.skip_reason : "no usable beam"];
     return false;
   }
   ++counts_.scans_used;
@@ -182,6 +181,17 @@ void writeObjectSummary(std::ostream& o, const ObjectTracker& tracker) {
   o << "}\n  },\n";
 }
 
+// What a plain MRPT grid of the same scans holds that S does not, and the other way round.
+void writeBaselineSummary(std::ostream& o, const DynamicGridMap& m, const PlainGrid& plain) {
+  const PlainComparison c = comparePlain(m, plain.grid());
+  o << "  \"mrpt_baseline\": {\n"
+    << "    \"note\": \"cells, each S cell against a plain MRPT grid built from the same scans\",\n"
+    << "    \"plain_occupied_static_free\": " << c.plain_occupied_static_free << ",\n"
+    << "    \"static_occupied_plain_not\": " << c.static_occupied_plain_not << ",\n"
+    << "    \"both_occupied\": " << c.both_occupied << "\n"
+    << "  },\n";
+}
+
 void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& source,
                   const OutputInfo& info) {
   const DynamicGridMap& m = mapper.map();
@@ -228,12 +238,18 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
     << "    \"dynamic_occupied\": " << cells.dynamic_occupied << "\n"
     << "  },\n";
   writeObjectSummary(o, mapper.tracker());
+  if (info.baseline) writeBaselineSummary(o, m, *info.baseline);
   o << "  \"timing\": {\n"
     << "    \"note\": \"the only part of the outputs that differs between identical runs\",\n"
     << "    \"wall_s\": " << std::fixed << std::setprecision(3) << info.wall_s << ",\n"
     << "    \"scans_per_s\": " << std::setprecision(1)
-    << (info.wall_s > 0 ? c.scans_used / info.wall_s : 0.0) << "\n"
-    << "  }\n"
+    << (info.wall_s > 0 ? c.scans_used / info.wall_s : 0.0);
+  if (info.baseline) {
+    o << ",\n    \"mrpt_baseline_wall_s\": " << std::setprecision(3) << info.baseline_wall_s
+      << ",\n    \"mrpt_baseline_scans_per_s\": " << std::setprecision(1)
+      << (info.baseline_wall_s > 0 ? c.scans_used / info.baseline_wall_s : 0.0);
+  }
+  o << "\n  }\n"
     << "}\n";
 }
 
@@ -255,6 +271,7 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
                       [&](std::ostream& o) { writeObjectsCsv(o, mapper.tracker()); });
   writeFileAtomically(dir, "events.csv",
                       [&](std::ostream& o) { writeEventsCsv(o, mapper.tracker()); });
+  if (info.baseline) saveImageAtomically(renderStatic(info.baseline->grid()), dir, "mrpt_plain.png");
   writeFileAtomically(dir, "summary.json",
                       [&](std::ostream& o) { writeSummary(o, mapper, source, info); });
 }

@@ -22,7 +22,7 @@ inline void put(CImage& img, int x, int y, Bgr c) {
   p[2] = c.r;
 }
 
-inline std::uint8_t grey(const DynamicGridMap& map, std::size_t i) {
+inline std::uint8_t grey(const mrpt::maps::COccupancyGridMap2D& map, std::size_t i) {
   return DynamicGridMap::l2p_255(map.getRawMap()[i]);
 }
 
@@ -45,7 +45,7 @@ CImage paintCells(const DynamicGridMap& map, int scale, ColourOf colour) {
 
 }  // namespace
 
-CImage renderStatic(const DynamicGridMap& map) {
+CImage renderStatic(const mrpt::maps::COccupancyGridMap2D& map) {
   const unsigned sx = map.getSizeX(), sy = map.getSizeY();
   CImage img(sx, sy, mrpt::img::CH_GRAY);
   for (unsigned cy = 0; cy < sy; ++cy) {

@@ -58,7 +58,8 @@ TEST_F(MapCommand, WritesEveryOutput) {
   ASSERT_EQ(status_, 0) << *log_;
   for (const char* f : {"static.png", "dynamic.png", "overlay.png", "static.gridmap.gz",
                         "dynamic.gridmap.gz", "static.pgm", "static.yaml", "config.ini",
-                        "summary.json"}) {
+                        "summary.json", "objects.csv", "events.csv", "tracks.csv",
+                        "mrpt_plain.png"}) {
     EXPECT_TRUE(fs::exists(*out_ + "/" + f)) << f;
   }
   for (const auto& e : fs::directory_iterator(*out_)) {
@@ -108,6 +109,17 @@ TEST_F(MapCommand, TheEffectiveConfigurationRunsAgainToTheSameBytes) {
   }
 }
 
+TEST_F(MapCommand, SummaryComparesSWithAPlainMrptGridUnlessToldNotTo) {
+  ASSERT_EQ(status_, 0) << *log_;
+  const std::string summary = test::readFile(*out_ + "/summary.json");
+  EXPECT_NE(summary.find("\"plain_occupied_static_free\": "), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"mrpt_baseline_scans_per_s\": "), std::string::npos) << summary;
+  const std::string bare = test::tempDir("map-bare");
+  ASSERT_EQ(map("--no-baseline --input " + kTiny + " --out " + bare), 0);
+  EXPECT_FALSE(fs::exists(bare + "/mrpt_plain.png"));
+  EXPECT_EQ(test::readFile(bare + "/summary.json").find("mrpt_baseline"), std::string::npos);
+}
+
 TEST(MapCommandErrors, ExitStatusesAndOneLineMessages) {
   const std::string dir = test::tempDir("maperr");
   std::string out;
@@ -128,7 +140,8 @@ TEST(MapCommandErrors, ExitStatusesAndOneLineMessages) {
 TEST(MapCommandHelp, ExplainsEveryOption) {
   std::string out;
   ASSERT_EQ(test::run(kExe + " map --help", &out), 0);
-  for (const char* opt : {"--input", "--config", "--out", "--poses", "--verbose"}) {
+  for (const char* opt : {"--input", "--config", "--out", "--poses", "--verbose", "--no-baseline",
+                          "--skip-bad-lines", "--fov", "--frames-every"}) {
     EXPECT_NE(out.find(opt), std::string::npos) << opt;
   }
   ASSERT_EQ(test::run(kExe + " --help", &out), 0);

@@ -12,6 +12,7 @@
 
 #include "dynamap/dynamic_grid_map.h"
 #include "dynamap/object_tracker.h"
+#include "dynamap/plain_grid.h"
 #include "dynamap/render.h"
 #include "dynamap/scan_source.h"
 
@@ -105,6 +106,10 @@ struct OutputInfo {
   std::string input;
   double wall_s = 0;
   InputOutcome outcome;
+  /// The plain MRPT grid of the same scans (nullptr: none): compared with S in summary.json
+  /// and drawn as mrpt_plain.png.
+  const PlainGrid* baseline = nullptr;
+  double baseline_wall_s = 0;  ///< time spent building it
 };
 void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSource& source,
                      const OutputInfo& info);

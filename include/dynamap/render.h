@@ -17,8 +17,9 @@ struct PathPoint {
   double x, y;
 };
 
-/// S in grey levels (white free, black occupied, grey unknown), one pixel per cell, 1 channel.
-mrpt::img::CImage renderStatic(const DynamicGridMap& map);
+/// An occupancy grid (S, or a plain MRPT grid) in grey levels (white free, black occupied,
+/// grey unknown), one pixel per cell, 1 channel.
+mrpt::img::CImage renderStatic(const mrpt::maps::COccupancyGridMap2D& map);
 /// D alone: white where D holds nothing, shades of red growing with D's P(occ) above 0.5, and
 /// S's occupied cells in light grey for context. One pixel per cell.
 mrpt::img::CImage renderDynamic(const DynamicGridMap& map);

@@ -5,8 +5,10 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 
 #include "cli.h"
+#include "dynamap/carmen_reader.h"
 #include "dynamap/config_check.h"
 #include "dynamap/map_outputs.h"
 #include "dynamap/mapping_run.h"
@@ -16,12 +18,14 @@ namespace {
 
 const char* const kUsage =
     "usage: dynamap map --input FILE [--config FILE] [--out DIR] [--poses SOURCE]\n"
-    "                   [--frames-every N] [--verbose]\n\n"
+    "                   [--frames-every N] [--no-baseline] [--skip-bad-lines] [--fov DEG]\n"
+    "                   [--verbose]\n\n"
     "Builds the static map S and the dynamic map D from a log (MRPT rawlog, MRPT simplemap or\n"
     "CARMEN log, plain or gz, told apart by content) and writes into DIR: static.png,\n"
     "dynamic.png, overlay.png, static.gridmap.gz and dynamic.gridmap.gz (MRPT),\n"
     "static.pgm + static.yaml (ROS map_server), config.ini (the effective configuration),\n"
-    "summary.json, and the object table: objects.csv, events.csv, tracks.csv.\n"
+    "summary.json, the object table: objects.csv, events.csv, tracks.csv, and mrpt_plain.png:\n"
+    "the plain MRPT grid of the same scans, compared with S in summary.json.\n"
     "--frames-every N also writes frames/NNNNNN.png (the overlay after scan N, 2N, ...) and,\n"
     "when ffmpeg is installed, timelapse.mp4.";
 
@@ -65,6 +69,12 @@ int runMap(const Args& args) {
       "out,o", po::value<std::string>()->default_value("out"), "output directory (created)")(
       "poses", po::value<std::string>(),
       "pose source: auto | simplemap | ground_truth | odometry (overrides [input] poses)")(
+      "no-baseline", "do not build the plain MRPT grid of the same scans (mrpt_plain.png and the\n"
+                     "comparison in summary.json); saves its time")(
+      "skip-bad-lines", "CARMEN input: skip malformed lines (counted in summary.json) instead "
+                        "of stopping at the first")(
+      "fov", po::value<double>(),
+      "CARMEN input: field of view of every laser line [deg], overriding the log")(
       "frames-every", po::value<long>(),
       "write frames/NNNNNN.png every N scans (and timelapse.mp4 with ffmpeg)")(
       "verbose,v", "print progress and a summary even when not on a terminal");
@@ -91,9 +101,19 @@ int runMap(const Args& args) {
     if (frames_every < 1) throw UsageError("--frames-every: must be a positive number of scans");
   }
 
+  CarmenOptions carmen;
+  carmen.skip_bad_lines = vm.count("skip-bad-lines") > 0;
+  if (vm.count("fov")) {
+    carmen.fov_deg = vm["fov"].as<double>();
+    if (!(carmen.fov_deg > 0 && carmen.fov_deg <= 360)) throw UsageError("--fov: must be in (0, 360] degrees");
+  }
+
   prepareOutputDir(out_dir);  // before any work: an unwritable directory fails fast
-  auto source = openScanSource(input, config.poses);
+  auto source = openScanSource(input, config.poses, &carmen);
   Mapper mapper(config);
+  std::unique_ptr<PlainGrid> baseline;
+  if (!vm.count("no-baseline")) baseline = std::make_unique<PlainGrid>(config.map, config.insertion);
+  std::chrono::steady_clock::duration baseline_time{};
   Progress progress(verbose || stderrIsTerminal());
   TrackLog tracks(out_dir);  // streamed: rows are never kept in memory
   const std::string frames_dir = out_dir + "/frames";
@@ -101,6 +121,11 @@ int runMap(const Args& args) {
 
   const auto start = std::chrono::steady_clock::now();
   const InputOutcome outcome = runMapping(*source, mapper, [&](const ScanRecord& rec) {
+    if (baseline) {  // timed on its own, so both runs' speeds can be reported
+      const auto t0 = std::chrono::steady_clock::now();
+      baseline->insert(rec);
+      baseline_time += std::chrono::steady_clock::now() - t0;
+    }
     tracks.append(rec.index, rec.t, mapper.tracker());
     if (frames_every > 0 && rec.index % static_cast<std::size_t>(frames_every) == 0) {
       writeFrame(frames_dir, mapper, rec.index);
@@ -109,10 +134,11 @@ int runMap(const Args& args) {
   });
   progress.finish();
   tracks.finish();
+  const double baseline_s = std::chrono::duration<double>(baseline_time).count();
   const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - baseline_s;
 
-  writeMapOutputs(out_dir, mapper, *source, {input, wall_s, outcome});
+  writeMapOutputs(out_dir, mapper, *source, {input, wall_s, outcome, baseline.get(), baseline_s});
   if (frames_every > 0) writeTimelapse(out_dir, frames_dir);
 
   if (verbose || stderrIsTerminal()) {
@@ -120,6 +146,13 @@ int runMap(const Args& args) {
     std::cerr << "dynamap map: " << c.scans_used << " scans mapped from " << input << " ("
               << toString(source->poseSource()) << " poses) in " << std::fixed
               << std::setprecision(2) << wall_s << " s; outputs in " << out_dir << "/\n";
+    if (baseline) {
+      const PlainComparison cmp = comparePlain(mapper.map(), baseline->grid());
+      std::cerr << "dynamap map: plain MRPT grid of the same scans (" << baseline_s << " s): "
+                << cmp.plain_occupied_static_free
+                << " cells it holds occupied are free in S (things that moved); "
+                << cmp.static_occupied_plain_not << " cells S holds occupied it does not\n";
+    }
   }
   if (!outcome.fault.empty()) {
     std::cerr << "dynamap map: warning: input ended in a fault, outputs cover the scans before "
