@@ -62,7 +62,9 @@ IniFile IniFile::fromText(const std::string& text, const std::string& name) {
   return IniFile(cfg, name);
 }
 
-bool IniFile::hasSection(const std::string& section) const { return cfg_->sectionExists(section); }
+bool IniFile::hasSection(const std::string& section) const {
+  return cfg_->sectionExists(section);
+}
 
 bool IniFile::hasKey(const std::string& section, const std::string& key) const {
   return cfg_->keyExists(section, key);

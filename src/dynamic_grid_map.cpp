@@ -22,7 +22,6 @@ constexpr int kCellMin = Base::OCCGRID_CELLTYPE_MIN;
 constexpr int kCellMax = Base::OCCGRID_CELLTYPE_MAX;
 constexpr double kLogOddsUnitsPerNat = 16.0;  // MRPT's integer log-odds scale
 
-
 inline cellType clampCell(int v, int lo, int hi = kCellMax) {
   return static_cast<cellType>(v < lo ? lo : (v > hi ? hi : v));
 }
@@ -70,9 +69,8 @@ DynamicGridMap::DynamicGridMap(const DynamicMapOptions& options, const Insertion
   syncLayers();
 }
 
-void DynamicGridMap::resizeGrid(float new_x_min, float new_x_max, float new_y_min,
-                                float new_y_max, float new_cells_default_value,
-                                bool additionalMargin) noexcept {
+void DynamicGridMap::resizeGrid(float new_x_min, float new_x_max, float new_y_min, float new_y_max,
+                                float new_cells_default_value, bool additionalMargin) noexcept {
   Base::resizeGrid(new_x_min, new_x_max, new_y_min, new_y_max, new_cells_default_value,
                    additionalMargin);
   syncLayers();
@@ -120,7 +118,9 @@ float DynamicGridMap::dynamicOccupancy(int cx, int cy) const {
   return 1.0f - l2p(dyn_[cx + static_cast<std::size_t>(cy) * m_size_x]);
 }
 
-float DynamicGridMap::staticOccupancy(int cx, int cy) const { return 1.0f - getCell(cx, cy); }
+float DynamicGridMap::staticOccupancy(int cx, int cy) const {
+  return 1.0f - getCell(cx, cy);
+}
 
 bool DynamicGridMap::isStaticFree(int cx, int cy) const {
   if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return false;
@@ -143,7 +143,8 @@ DynamicGridMap::CellCounts DynamicGridMap::countCells() const {
 }
 
 bool DynamicGridMap::internal_insertObservation(
-    const mrpt::obs::CObservation& obs, const std::optional<const mrpt::poses::CPose3D>& robotPose) {
+    const mrpt::obs::CObservation& obs,
+    const std::optional<const mrpt::poses::CPose3D>& robotPose) {
   changed_.clear();
   last_stats_ = {};
   if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs)) {
@@ -188,7 +189,6 @@ inline void DynamicGridMap::applyHit(std::size_t index, bool in_free_space) {
   noteChange(index, d);
 }
 
-
 bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
                                 const mrpt::poses::CPose3D& robot_pose) {
   const double tolerance = insertion_.horizontal_tolerance_deg * M_PI / 180.0;
@@ -206,11 +206,11 @@ bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
   const mrpt::poses::CPose2D sensor = computeBeams(scan, robot_pose);  // 1. where beams end
   if (!growToFit(sensor)) return false;                                // 2. room for them
   m_likelihoodCacheOutDated = true;
-  nextStamp();                                                         // 3. a fresh scan mark
-  applyHits();                                                         // 4. hits first
-  planWedges();                                                        // 5. area between beams
+  nextStamp();   // 3. a fresh scan mark
+  applyHits();   // 4. hits first
+  planWedges();  // 5. area between beams
   sweepFreeArea(sensor);
-  traceBeamTails(sensor);                                              // 6. each beam beyond it
+  traceBeamTails(sensor);  // 6. each beam beyond it
   last_stats_.inserted = last_stats_.beams_used > 0;
   last_stats_.skip_reason = last_stats_.inserted ? nullptr : "no usable beam";
   return last_stats_.inserted;
@@ -357,8 +357,9 @@ void DynamicGridMap::sweepFreeArea(const mrpt::poses::CPose2D& sensor) {
 }
 
 DynamicGridMap::MissKernel DynamicGridMap::missKernel() {
-  return {m_map.data(), dyn_.data(),     stamp_.data(), miss_s_.data(), miss_d_.data(),
-          scan_stamp_,  object_cell_, &changed_,     0};
+  return {m_map.data(),   dyn_.data(),    stamp_.data(),
+          miss_s_.data(), miss_d_.data(), scan_stamp_,
+          object_cell_,   &changed_,      0};
 }
 
 void DynamicGridMap::traceBeamTails(const mrpt::poses::CPose2D& sensor) {

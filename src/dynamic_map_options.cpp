@@ -12,10 +12,10 @@
 namespace dynamap {
 namespace {
 
-const char* const kMapKeys[] = {"resolution", "max_map_size_m", "free_threshold", "object_threshold",
-                                "s_hit_notfree", "s_hit_free", "s_miss", "d_hit_free",
-                                "d_hit_notfree", "d_miss", "d_max", "d_min",
-                                "wall_guard_cells"};
+const char* const kMapKeys[] = {
+    "resolution", "max_map_size_m", "free_threshold",  "object_threshold", "s_hit_notfree",
+    "s_hit_free", "s_miss",         "d_hit_free",      "d_hit_notfree",    "d_miss",
+    "d_max",      "d_min",          "wall_guard_cells"};
 
 [[noreturn]] void reject(const std::string& source, const char* section, const char* key,
                          const std::string& why) {
@@ -23,7 +23,9 @@ const char* const kMapKeys[] = {"resolution", "max_map_size_m", "free_threshold"
 }
 
 // MRPT's 8-bit cells hold 16 log-odds units per nat: an update must move a cell by >= 1 unit.
-bool movesCell(double p) { return std::abs(16.0 * std::log(p / (1.0 - p))) >= 0.5; }
+bool movesCell(double p) {
+  return std::abs(16.0 * std::log(p / (1.0 - p))) >= 0.5;
+}
 
 // p must lie in (lo, hi), a "high" or "low" model value, and move an 8-bit cell.
 void requireModelValue(const std::string& src, const char* key, double p, bool high) {
@@ -33,8 +35,8 @@ void requireModelValue(const std::string& src, const char* key, double p, bool h
     m << p << " must be a " << (high ? "high" : "low") << " probability, in (" << lo << ", " << hi
       << ")";
   } else if (!movesCell(p)) {
-    m << p << " is too close to 0.5 to change an 8-bit cell (use " << (high ? ">= 0.508" : "<= 0.492")
-      << ")";
+    m << p << " is too close to 0.5 to change an 8-bit cell (use "
+      << (high ? ">= 0.508" : "<= 0.492") << ")";
   } else {
     return;
   }
@@ -140,7 +142,9 @@ void DynamicMapOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   load(IniFile::fromText(ini.str(), "configuration [" + section + "]"));
 }
 
-void DynamicMapOptions::dumpToTextStream(std::ostream& out) const { writeIni(out); }
+void DynamicMapOptions::dumpToTextStream(std::ostream& out) const {
+  writeIni(out);
+}
 
 void InsertionOptions::load(const IniFile& ini) {
   const std::string s = kSection;
@@ -148,8 +152,7 @@ void InsertionOptions::load(const IniFile& ini) {
       s, {"max_distance_insertion", "invalid_ranges_as_free", "horizontal_tolerance_deg"});
   max_distance_insertion = ini.getDouble(s, "max_distance_insertion", max_distance_insertion);
   invalid_ranges_as_free = ini.getBool(s, "invalid_ranges_as_free", invalid_ranges_as_free);
-  horizontal_tolerance_deg =
-      ini.getDouble(s, "horizontal_tolerance_deg", horizontal_tolerance_deg);
+  horizontal_tolerance_deg = ini.getDouble(s, "horizontal_tolerance_deg", horizontal_tolerance_deg);
   validate(ini.name());
 }
 

@@ -26,8 +26,8 @@ void commit(const std::string& tmp, const std::string& dir, const std::string& n
   fs::rename(tmp, fs::path(dir) / name, ec);
   if (ec) {
     fs::remove(tmp, ec);
-    throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write (" +
-                             ec.message() + ")");
+    throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write (" + ec.message() +
+                             ")");
   }
 }
 
@@ -66,7 +66,8 @@ void saveGrid(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& di
   const std::string tmp = tempName(dir, name);
   {
     mrpt::io::CFileGZOutputStream out;
-    if (!out.open(tmp)) throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write");
+    if (!out.open(tmp))
+      throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write");
     mrpt::serialization::archiveFrom(out) << grid;
   }
   commit(tmp, dir, name);
@@ -139,11 +140,21 @@ std::string jsonString(const std::string& s) {
   o << '"';
   for (const unsigned char c : s) {
     switch (c) {
-      case '"': o << "\\\""; break;
-      case '\\': o << "\\\\"; break;
-      case '\n': o << "\\n"; break;
-      case '\t': o << "\\t"; break;
-      case '\r': o << "\\r"; break;
+      case '"':
+        o << "\\\"";
+        break;
+      case '\\':
+        o << "\\\\";
+        break;
+      case '\n':
+        o << "\\n";
+        break;
+      case '\t':
+        o << "\\t";
+        break;
+      case '\r':
+        o << "\\r";
+        break;
       default:
         if (c < 0x20) {
           o << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(c) << std::dec;

@@ -32,8 +32,7 @@ MapConfig MapConfig::load(const IniFile& ini) {
 void MapConfig::writeIni(std::ostream& out) const {
   out << "; the effective configuration of this run (reload it with --config)\n\n";
   out << "[input]\n"
-      << "poses = " << toString(poses)
-      << "  ; auto | simplemap | ground_truth | odometry\n\n";
+      << "poses = " << toString(poses) << "  ; auto | simplemap | ground_truth | odometry\n\n";
   map.writeIni(out);
   out << "\n";
   insertion.writeIni(out);
@@ -153,8 +152,7 @@ void writeEventsCsv(std::ostream& o, const ObjectTracker& tracker) {
   o << "t,scan_index,object_id,event,cx,cy,size_m\n";
   for (const EventRecord& e : tracker.events()) {
     o << fmt("%.6f", e.t) << ',' << e.scan_index << ',' << e.object_id << ',' << toString(e.event)
-      << ',' << fmt("%.3f", e.cx) << ',' << fmt("%.3f", e.cy) << ',' << fmt("%.3f", e.size)
-      << '\n';
+      << ',' << fmt("%.3f", e.cx) << ',' << fmt("%.3f", e.cy) << ',' << fmt("%.3f", e.size) << '\n';
   }
 }
 
@@ -220,8 +218,7 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
     o << (first ? "\n" : ",\n") << "      " << jsonString(kv.first) << ": " << kv.second;
     first = false;
   }
-  o << (first ? "},\n" : "\n    },\n")
-    << "    \"bad_beams\": " << c.beams_bad << ",\n"
+  o << (first ? "},\n" : "\n    },\n") << "    \"bad_beams\": " << c.beams_bad << ",\n"
     << "    \"timestamps_backwards\": " << c.time_backwards << ",\n"
     << "    \"first_t\": " << std::fixed << std::setprecision(6) << c.first_t << ",\n"
     << "    \"last_t\": " << c.last_t << std::defaultfloat << std::setprecision(10) << "\n"
@@ -260,9 +257,9 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
   const DynamicGridMap& m = mapper.map();
   saveImageAtomically(renderStatic(m), dir, "static.png");
   saveImageAtomically(renderDynamic(m), dir, "dynamic.png");
-  saveImageAtomically(renderOverlay(m, mapper.path(), overlayScale(m.getSizeX()),
-                                    &mapper.tracker().objects()),
-                      dir, "overlay.png");
+  saveImageAtomically(
+      renderOverlay(m, mapper.path(), overlayScale(m.getSizeX()), &mapper.tracker().objects()), dir,
+      "overlay.png");
   writeGridmap(m, dir, "static.gridmap.gz");
   writeDynamicGridmap(m, dir, "dynamic.gridmap.gz");
   writeRosMap(m, dir, "static");
@@ -271,7 +268,8 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
                       [&](std::ostream& o) { writeObjectsCsv(o, mapper.tracker()); });
   writeFileAtomically(dir, "events.csv",
                       [&](std::ostream& o) { writeEventsCsv(o, mapper.tracker()); });
-  if (info.baseline) saveImageAtomically(renderStatic(info.baseline->grid()), dir, "mrpt_plain.png");
+  if (info.baseline)
+    saveImageAtomically(renderStatic(info.baseline->grid()), dir, "mrpt_plain.png");
   writeFileAtomically(dir, "summary.json",
                       [&](std::ostream& o) { writeSummary(o, mapper, source, info); });
 }

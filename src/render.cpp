@@ -50,7 +50,8 @@ CImage renderStatic(const mrpt::maps::COccupancyGridMap2D& map) {
   CImage img(sx, sy, mrpt::img::CH_GRAY);
   for (unsigned cy = 0; cy < sy; ++cy) {
     auto* row = img.ptrLine<std::uint8_t>(sy - 1 - cy);
-    for (unsigned cx = 0; cx < sx; ++cx) row[cx] = grey(map, cx + static_cast<std::size_t>(cy) * sx);
+    for (unsigned cx = 0; cx < sx; ++cx)
+      row[cx] = grey(map, cx + static_cast<std::size_t>(cy) * sx);
   }
   return img;
 }

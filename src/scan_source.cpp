@@ -31,10 +31,14 @@ PoseSource parsePoseSource(const std::string& name) {
 
 std::string toString(PoseSource source) {
   switch (source) {
-    case PoseSource::Auto: return "auto";
-    case PoseSource::Simplemap: return "simplemap";
-    case PoseSource::GroundTruth: return "ground_truth";
-    case PoseSource::Odometry: return "odometry";
+    case PoseSource::Auto:
+      return "auto";
+    case PoseSource::Simplemap:
+      return "simplemap";
+    case PoseSource::GroundTruth:
+      return "ground_truth";
+    case PoseSource::Odometry:
+      return "odometry";
   }
   return "?";
 }
@@ -58,7 +62,9 @@ std::string companionGroundTruth(const std::string& path) {
   return stripRawlogExtension(path) + ".gt.txt";
 }
 
-bool fileExists(const std::string& p) { return std::ifstream(p).good(); }
+bool fileExists(const std::string& p) {
+  return std::ifstream(p).good();
+}
 
 /// The first decompressed bytes of a file (gz or plain).
 std::string fileHead(const std::string& path, std::size_t n) {
@@ -93,7 +99,9 @@ void loadGroundTruthText(const std::string& path, PoseTrack& track) {
   }
 }
 
-double toSeconds(const mrpt::Clock::time_point& t) { return mrpt::Clock::toDouble(t); }
+double toSeconds(const mrpt::Clock::time_point& t) {
+  return mrpt::Clock::toDouble(t);
+}
 
 /// Streams an MRPT rawlog (either format), one record at a time, resolving each scan's pose by
 /// time from the chosen pose source.
@@ -104,8 +112,10 @@ class RawlogSource : public ScanSource {
     if (source_ == PoseSource::GroundTruth && !hasGroundTruthInLog(path)) {
       const std::string gt = companionGroundTruth(path);
       if (!fileExists(gt)) {
-        throw InputError(path + ": no ground-truth poses (no CObservationRobotPose in the log, "
-                                "no companion file " + gt + ")");
+        throw InputError(path +
+                         ": no ground-truth poses (no CObservationRobotPose in the log, "
+                         "no companion file " +
+                         gt + ")");
       }
       loadGroundTruthText(gt, poses_);
       poses_from_file_ = true;
@@ -146,8 +156,8 @@ class RawlogSource : public ScanSource {
     } catch (const mrpt::serialization::CExceptionEOF&) {
       eof_ = true;
       if (in_.getPosition() != start) {
-        fault_ = "record " + std::to_string(stats_.records) + " at byte " +
-                 std::to_string(start) + " is cut off (truncated file)";
+        fault_ = "record " + std::to_string(stats_.records) + " at byte " + std::to_string(start) +
+                 " is cut off (truncated file)";
       }
       return;
     } catch (const std::exception& e) {
@@ -222,8 +232,8 @@ class RawlogSource : public ScanSource {
           pending_.clear();
           return;
         }
-        throw InputError(path_ + ": scan " + std::to_string(p.index) + " (t=" +
-                         std::to_string(p.t) + ") has no " + toString(source_) + " pose");
+        throw InputError(path_ + ": scan " + std::to_string(p.index) +
+                         " (t=" + std::to_string(p.t) + ") has no " + toString(source_) + " pose");
       }
       ready_.push_back({p.index, p.t, pose, std::move(p.scan)});
       pending_.pop_front();
@@ -346,7 +356,8 @@ class SimplemapSource : public ScanSource {
 std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource source,
                                            const CarmenOptions* carmen) {
   if (!fileExists(path)) throw InputError(path + ": no such file");
-  if (looksLikeCarmen(path)) return openCarmenSource(path, source, carmen ? *carmen : CarmenOptions{});
+  if (looksLikeCarmen(path))
+    return openCarmenSource(path, source, carmen ? *carmen : CarmenOptions{});
   const std::string head = fileHead(path, 256);
   if (head.empty()) throw InputError(path + ": empty file");
   if (head.find("CSimpleMap") != std::string::npos) {

@@ -9,7 +9,9 @@
 namespace dynamap {
 namespace {
 
-IniFile ini(const std::string& text) { return IniFile::fromText(text, "test.ini"); }
+IniFile ini(const std::string& text) {
+  return IniFile::fromText(text, "test.ini");
+}
 
 std::string errorOf(const std::function<void()>& f) {
   try {
@@ -31,8 +33,7 @@ TEST(IniFile, ReadsTypedValuesAndStripsTrailingComments) {
 
 TEST(IniFile, MalformedValuesNameFileSectionAndKey) {
   const IniFile f = ini("[a]\nx = 1.5m\nn = 2.5\nb = maybe\nlist = 1 two\n");
-  EXPECT_EQ(errorOf([&] { f.getDouble("a", "x", 0); }),
-            "test.ini: [a] x: '1.5m' is not a number");
+  EXPECT_EQ(errorOf([&] { f.getDouble("a", "x", 0); }), "test.ini: [a] x: '1.5m' is not a number");
   EXPECT_EQ(errorOf([&] { f.getInt("a", "n", 0); }), "test.ini: [a] n: '2.5' is not an integer");
   EXPECT_EQ(errorOf([&] { f.getBool("a", "b", false); }),
             "test.ini: [a] b: 'maybe' is not a boolean (true/false)");

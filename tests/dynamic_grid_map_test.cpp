@@ -27,7 +27,9 @@ DynamicMapOptions smallCells() {
   return o;
 }
 
-DynamicGridMap emptyMap() { return DynamicGridMap(smallCells(), {}, -5, 5, -5, 5); }
+DynamicGridMap emptyMap() {
+  return DynamicGridMap(smallCells(), {}, -5, 5, -5, 5);
+}
 
 // For the table's rows: D may fall to P(occ) 0.05, so its "low" updates show in the cells.
 DynamicGridMap tableMap() {
@@ -49,7 +51,9 @@ std::vector<int> dynamicRow(const DynamicGridMap& m, int from, int to) {
 }
 
 // One beam straight ahead: range 0.5 ends in cell 55 and crosses cells 50..54.
-void beamAhead(DynamicGridMap& m, float range) { m.insertObservation(*makeScan({range}, 0.01), kRobot); }
+void beamAhead(DynamicGridMap& m, float range) {
+  m.insertObservation(*makeScan({range}, 0.01), kRobot);
+}
 
 TEST(DynamicGridMap, ModelStepsFollowTheOptions) {
   const DynamicGridMap m = emptyMap();
@@ -192,12 +196,15 @@ void scanWall(DynamicGridMap& m, double object_at = 0) {
   for (int i = 0; i < kBeams; ++i) {
     const double a = -kAperture / 2 + kAperture * i / (kBeams - 1);
     r[i] = static_cast<float>((1.0 - 0.05) / std::cos(a));
-    if (object_at > 0 && std::abs(a) < 5 * M_PI / 180) r[i] = static_cast<float>(object_at / std::cos(a));
+    if (object_at > 0 && std::abs(a) < 5 * M_PI / 180)
+      r[i] = static_cast<float>(object_at / std::cos(a));
   }
   m.insertObservation(*makeScan(r, kAperture), kRobot);
 }
 
-std::size_t objectCells(const DynamicGridMap& m) { return m.countCells().dynamic_occupied; }
+std::size_t objectCells(const DynamicGridMap& m) {
+  return m.countCells().dynamic_occupied;
+}
 
 TEST(DynamicGridMapScenes, AWallScannedAgainAndAgainStaysInSAndNeverEntersD) {
   DynamicGridMap m = emptyMap();

@@ -70,19 +70,24 @@ TEST(MapOptions, HighsMustBeAboveHalfAndLowsBelow) {
 }
 
 TEST(MapOptions, ThresholdsAreInTheOpenUnitIntervalAndOrdered) {
-  expectError("[dynamic_map]\nfree_threshold = 0\n", "my.ini: [dynamic_map] free_threshold: 0 must be in (0, 1)");
+  expectError("[dynamic_map]\nfree_threshold = 0\n",
+              "my.ini: [dynamic_map] free_threshold: 0 must be in (0, 1)");
   expectError("[dynamic_map]\nobject_threshold = 1.2\n",
               "my.ini: [dynamic_map] object_threshold: 1.2 must be in (0, 1)");
   expectError("[dynamic_map]\nfree_threshold = 0.9\nobject_threshold = 0.8\n",
               "my.ini: [dynamic_map] free_threshold: must be below object_threshold");
-  expectError("[dynamic_map]\nd_max = 0.8\n", "my.ini: [dynamic_map] d_max: must be above object_threshold");
-  expectError("[dynamic_map]\nd_min = 0.9\n", "my.ini: [dynamic_map] d_min: must be below object_threshold");
+  expectError("[dynamic_map]\nd_max = 0.8\n",
+              "my.ini: [dynamic_map] d_max: must be above object_threshold");
+  expectError("[dynamic_map]\nd_min = 0.9\n",
+              "my.ini: [dynamic_map] d_min: must be below object_threshold");
 }
 
 TEST(MapOptions, ResolutionMustBePositive) {
   expectError("[dynamic_map]\nresolution = 0\n", "my.ini: [dynamic_map] resolution: must be > 0 m");
-  expectError("[dynamic_map]\nresolution = -0.05\n", "my.ini: [dynamic_map] resolution: must be > 0 m");
-  expectError("[dynamic_map]\nresolution = 0.001\n", "my.ini: [dynamic_map] resolution: must be within");
+  expectError("[dynamic_map]\nresolution = -0.05\n",
+              "my.ini: [dynamic_map] resolution: must be > 0 m");
+  expectError("[dynamic_map]\nresolution = 0.001\n",
+              "my.ini: [dynamic_map] resolution: must be within");
   expectError("[dynamic_map]\nmax_map_size_m = 0.5\n",
               "my.ini: [dynamic_map] max_map_size_m: must be within [1, 10000] m");
 }
@@ -94,7 +99,8 @@ TEST(MapOptions, UnknownOrMisspelledKeysAndSectionsAreErrors) {
               "my.ini: [insertion] maxDistanceInsertion: unknown key");
   expectError("[dynamic-map]\nresolution = 0.1\n", "my.ini: unknown section [dynamic-map]");
   expectError("[input]\nposes = gps\n", "my.ini: [input] poses: unknown pose source 'gps'");
-  expectError("[dynamic_map]\nresolution = fine\n", "my.ini: [dynamic_map] resolution: 'fine' is not a number");
+  expectError("[dynamic_map]\nresolution = fine\n",
+              "my.ini: [dynamic_map] resolution: 'fine' is not a number");
 }
 
 TEST(MapOptions, InsertionOptionsAreValidated) {

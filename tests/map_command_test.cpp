@@ -43,7 +43,8 @@ class MapCommand : public ::testing::Test {
   static void SetUpTestSuite() {
     out_ = new std::string(test::tempDir("map"));
     std::string log;
-    status_ = map("--config " + kSrc + "/config/default.ini --input " + kTiny + " --out " + *out_, &log);
+    status_ =
+        map("--config " + kSrc + "/config/default.ini --input " + kTiny + " --out " + *out_, &log);
     log_ = new std::string(log);
   }
   static std::string* out_;
@@ -56,10 +57,10 @@ int MapCommand::status_ = -1;
 
 TEST_F(MapCommand, WritesEveryOutput) {
   ASSERT_EQ(status_, 0) << *log_;
-  for (const char* f : {"static.png", "dynamic.png", "overlay.png", "static.gridmap.gz",
-                        "dynamic.gridmap.gz", "static.pgm", "static.yaml", "config.ini",
-                        "summary.json", "objects.csv", "events.csv", "tracks.csv",
-                        "mrpt_plain.png"}) {
+  for (const char* f :
+       {"static.png", "dynamic.png", "overlay.png", "static.gridmap.gz", "dynamic.gridmap.gz",
+        "static.pgm", "static.yaml", "config.ini", "summary.json", "objects.csv", "events.csv",
+        "tracks.csv", "mrpt_plain.png"}) {
     EXPECT_TRUE(fs::exists(*out_ + "/" + f)) << f;
   }
   for (const auto& e : fs::directory_iterator(*out_)) {

@@ -196,7 +196,9 @@ void expectIdentityFloors(const Figures& f) {
   EXPECT_EQ(f.found_same_id, f.moves);
   EXPECT_EQ(f.false_objects, 0u);
 }
-TEST(ObjectsScenario, DISABLED_ArenaIdentityFloor) { expectIdentityFloors(scenario("arena")); }
+TEST(ObjectsScenario, DISABLED_ArenaIdentityFloor) {
+  expectIdentityFloors(scenario("arena"));
+}
 TEST(ObjectsScenario, DISABLED_CorridorsIdentityFloor) {
   expectIdentityFloors(scenario("corridors"));
 }

@@ -21,7 +21,8 @@ ScanRecord wallScan(bool object) {
   std::vector<float> r(n);
   for (int i = 0; i < n; ++i) {
     const double a = -aperture / 2 + aperture * i / (n - 1);
-    r[i] = static_cast<float>((object && std::abs(a) < 5 * M_PI / 180 ? 0.625 : 0.975) / std::cos(a));
+    r[i] =
+        static_cast<float>((object && std::abs(a) < 5 * M_PI / 180 ? 0.625 : 0.975) / std::cos(a));
   }
   ScanRecord rec;
   rec.pose = CPose2D(0, 0, 0);

@@ -27,7 +27,9 @@ TEST(RayCast, ShallowSlopeFollowsTheFloorOfTheExactLine) {
   EXPECT_EQ(rayCells(4, 2, 0, 0), (Cells{{4, 2}, {3, 1}, {2, 1}, {1, 0}}));
 }
 
-TEST(RayCast, SameCellIsNoRay) { EXPECT_TRUE(rayCells(5, 5, 5, 5).empty()); }
+TEST(RayCast, SameCellIsNoRay) {
+  EXPECT_TRUE(rayCells(5, 5, 5, 5).empty());
+}
 
 TEST(RayCast, LongRaysStayOnTheLineAndStopBeforeTheEnd) {
   // 9 fractional bits would drift by up to n / 1024 cells; this ray is 100000 cells long.

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 
 #include "test_util.h"
 
@@ -21,7 +21,8 @@ std::vector<test::LogStep> tenSteps() {
   std::vector<test::LogStep> steps;
   for (int k = 0; k < 10; ++k) {
     const double t = 1000.0 + 0.2 * k;
-    steps.push_back({t, CPose2D(0.1 * k, 0.5, 0.01 * k), test::makeScan({1.0f, 2.0f, 3.0f}, 1.0, t)});
+    steps.push_back(
+        {t, CPose2D(0.1 * k, 0.5, 0.01 * k), test::makeScan({1.0f, 2.0f, 3.0f}, 1.0, t)});
   }
   return steps;
 }
@@ -68,7 +69,9 @@ TEST(ScanSource, OdometryIsUsedWhenAskedOrWhenItIsAllThereIs) {
   auto src = openScanSource(dir + "/odo.rawlog", PoseSource::Auto);
   EXPECT_EQ(src->poseSource(), PoseSource::Odometry);
   EXPECT_EQ(readAll(*src).size(), 10u);
-  EXPECT_NE(inputError([&] { openScanSource(dir + "/odo.rawlog", PoseSource::GroundTruth); }).find("no ground-truth poses"),
+  EXPECT_NE(inputError([&] {
+              openScanSource(dir + "/odo.rawlog", PoseSource::GroundTruth);
+            }).find("no ground-truth poses"),
             std::string::npos);
 }
 
@@ -79,7 +82,7 @@ TEST(ScanSource, CompanionGroundTruthFileIsInterpolatedByTime) {
   auto src = openScanSource(dir + "/c.rawlog", PoseSource::GroundTruth);
   const auto recs = readAll(*src);
   ASSERT_EQ(recs.size(), 10u);
-  EXPECT_NEAR(recs[0].pose.x(), 1.0, 1e-6);  // t = 1000.0: a tenth of the way
+  EXPECT_NEAR(recs[0].pose.x(), 1.0, 1e-6);   // t = 1000.0: a tenth of the way
   EXPECT_NEAR(recs[5].pose.x(), 11.0, 1e-6);  // t = 1001.0
 }
 
@@ -140,7 +143,8 @@ TEST(ScanSource, NotALogIsAnErrorNamingTheFile) {
 }
 
 TEST(ScanSource, PoseSourceNames) {
-  for (auto s : {PoseSource::Auto, PoseSource::Simplemap, PoseSource::GroundTruth, PoseSource::Odometry}) {
+  for (auto s :
+       {PoseSource::Auto, PoseSource::Simplemap, PoseSource::GroundTruth, PoseSource::Odometry}) {
     EXPECT_EQ(parsePoseSource(toString(s)), s);
   }
   EXPECT_THROW(parsePoseSource("gps"), std::invalid_argument);

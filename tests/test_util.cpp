@@ -8,6 +8,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <unistd.h>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -16,7 +17,6 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace dynamap::test {
 
@@ -97,9 +97,9 @@ void writeActionSfRawlog(const std::string& path, const std::vector<LogStep>& st
 
 std::string tempDir(const std::string& tag) {
   static std::atomic<int> counter{0};
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("dynamap-test-" + tag + "-" + std::to_string(getpid()) + "-" +
-                    std::to_string(counter++));
+  const auto dir =
+      std::filesystem::temp_directory_path() /
+      ("dynamap-test-" + tag + "-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

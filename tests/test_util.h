@@ -11,9 +11,8 @@ namespace dynamap::test {
 
 /// A scan of ranges.size() beams spread over `aperture` (rad), beam 0 on the right
 /// (rightToLeft). A range <= 0 is an invalid (no-echo) beam.
-mrpt::obs::CObservation2DRangeScan::Ptr makeScan(const std::vector<float>& ranges,
-                                                 double aperture, double t = 0.0,
-                                                 float max_range = 30.0f);
+mrpt::obs::CObservation2DRangeScan::Ptr makeScan(const std::vector<float>& ranges, double aperture,
+                                                 double t = 0.0, float max_range = 30.0f);
 
 /// The ranges a scan of `n` beams over `aperture` from pose (x, y, phi) measures in a
 /// rectangular room [x0, x1] x [y0, y1] (exact).

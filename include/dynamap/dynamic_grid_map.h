@@ -30,14 +30,14 @@ namespace dynamap {
 
 /// What the last scan did, for summaries and the object tracker.
 struct ScanInsertStats {
-  bool inserted = false;          ///< false: see skip_reason
+  bool inserted = false;  ///< false: see skip_reason
   /// Why the scan was not inserted: "not horizontal", "no usable beam", "pose not finite",
   /// "beyond max_map_size_m"; nullptr when it was.
   const char* skip_reason = nullptr;
-  std::uint32_t beams_used = 0;   ///< beams that updated at least one cell
-  std::uint32_t beams_bad = 0;    ///< NaN, infinite or negative ranges (not inserted)
-  std::uint32_t hit_cells = 0;    ///< distinct cells updated as hits
-  std::uint32_t free_cells = 0;   ///< distinct cells updated as crossed
+  std::uint32_t beams_used = 0;  ///< beams that updated at least one cell
+  std::uint32_t beams_bad = 0;   ///< NaN, infinite or negative ranges (not inserted)
+  std::uint32_t hit_cells = 0;   ///< distinct cells updated as hits
+  std::uint32_t free_cells = 0;  ///< distinct cells updated as crossed
 };
 
 class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
@@ -76,9 +76,9 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
 
   /// Counts over the whole grid (O(cells): for summaries, not per scan).
   struct CellCounts {
-    std::size_t static_occupied = 0;  ///< S P(occ) > 0.5
-    std::size_t static_free = 0;      ///< S P(occ) < free_threshold
-    std::size_t dynamic_occupied = 0; ///< D above object_threshold
+    std::size_t static_occupied = 0;   ///< S P(occ) > 0.5
+    std::size_t static_free = 0;       ///< S P(occ) < free_threshold
+    std::size_t dynamic_occupied = 0;  ///< D above object_threshold
   };
   CellCounts countCells() const;
 
@@ -132,7 +132,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
       s[i] = miss_s[static_cast<std::uint8_t>(s[i])];
       d[i] = miss_d[static_cast<std::uint8_t>(before)];
       // A miss only ever lowers D's P(occ): only an object cell can change state.
-      if (before < object_cell && d[i] >= object_cell) changed->push_back(static_cast<std::uint32_t>(i));
+      if (before < object_cell && d[i] >= object_cell)
+        changed->push_back(static_cast<std::uint32_t>(i));
       ++freed;
     }
   };
@@ -162,7 +163,7 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   enum BeamKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
   struct Beam {
     double cos = 1, sin = 0;  // direction in the map frame
-    float reach = 0;   // [m] how far the beam frees space (0: not used)
+    float reach = 0;          // [m] how far the beam frees space (0: not used)
     float end_x = 0, end_y = 0;
     BeamKind kind = kBeamNone;
     double covered = 0;  // [m] the swept wedges free this beam's line up to here

@@ -18,7 +18,7 @@ class IniFile;
 struct DynamicMapOptions : public mrpt::config::CLoadableOptions {
   static constexpr const char* kSection = "dynamic_map";
 
-  double resolution = 0.05;        ///< [m] cell size of S and D; > 0
+  double resolution = 0.05;  ///< [m] cell size of S and D; > 0
   /// [m] the grid never grows wider or taller than this: a scan that would make it (a pose
   /// jump, a corrupt pose) is skipped and counted; in [1, 10000]. 600 m at 5 cm: 0.9 GB.
   double max_map_size_m = 600;

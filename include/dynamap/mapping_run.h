@@ -2,8 +2,8 @@
 // One mapping run: configuration, the per-scan step, and the outputs of `dynamap map`.
 
 #include <cstdint>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <iosfwd>
 #include <map>
 #include <memory>
@@ -37,8 +37,8 @@ struct MapConfig {
 struct RunCounts {
   std::size_t scans_used = 0;
   std::map<std::string, std::size_t> scans_skipped;  ///< by reason
-  std::uint64_t beams_bad = 0;                        ///< NaN / inf / negative ranges
-  std::size_t time_backwards = 0;  ///< scans older than the one before
+  std::uint64_t beams_bad = 0;                       ///< NaN / inf / negative ranges
+  std::size_t time_backwards = 0;                    ///< scans older than the one before
   double first_t = 0, last_t = 0;
 };
 

@@ -31,6 +31,7 @@ struct PlainComparison {
   std::size_t static_occupied_plain_not = 0;
   std::size_t both_occupied = 0;
 };
-PlainComparison comparePlain(const DynamicGridMap& map, const mrpt::maps::COccupancyGridMap2D& plain);
+PlainComparison comparePlain(const DynamicGridMap& map,
+                             const mrpt::maps::COccupancyGridMap2D& plain);
 
 }  // namespace dynamap

@@ -8,7 +8,8 @@
 
 namespace dynamap {
 
-/// A point in grid units: cell (i, j) spans [i, i + 1) x [j, j + 1); its centre is (i + .5, j + .5).
+/// A point in grid units: cell (i, j) spans [i, i + 1) x [j, j + 1); its centre is (i + .5, j +
+/// .5).
 struct GridPoint {
   double u, v;
 };

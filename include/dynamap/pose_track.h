@@ -12,8 +12,8 @@ class PoseTrack {
  public:
   /// A pose at time t, interpolated between the samples around it when they are at most
   /// kMaxGap apart, or taken from the nearest end sample when within kEndTolerance of it.
-  static constexpr double kMaxGap = 2.0;          // [s]
-  static constexpr double kEndTolerance = 0.1;    // [s]
+  static constexpr double kMaxGap = 2.0;        // [s]
+  static constexpr double kEndTolerance = 0.1;  // [s]
 
   enum class Lookup { kFound, kLater, kMissing };
 

@@ -45,8 +45,8 @@ class InputError : public std::runtime_error {
 
 /// Counts a source keeps while reading, for the run summary.
 struct SourceStats {
-  std::size_t records = 0;  ///< top-level records (objects or lines) read
-  std::size_t scans = 0;    ///< 2D laser scans seen
+  std::size_t records = 0;                     ///< top-level records (objects or lines) read
+  std::size_t scans = 0;                       ///< 2D laser scans seen
   std::map<std::string, std::size_t> skipped;  ///< records or scans skipped, by reason
 };
 

@@ -23,7 +23,9 @@ bool parseArgs(const Args& args, const po::options_description& options,
   return true;
 }
 
-bool stderrIsTerminal() { return isatty(fileno(stderr)) != 0; }
+bool stderrIsTerminal() {
+  return isatty(fileno(stderr)) != 0;
+}
 
 void Progress::update(double fraction, std::size_t done) {
   if (!enabled_) return;

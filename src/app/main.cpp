@@ -18,7 +18,8 @@ struct Command {
 const Command kCommands[] = {
     {"map", "build the static map, the dynamic map and the object table from a log",
      dynamap::app::runMap},
-    {"simulate", "run a scenario file: a rawlog with exact ground truth", dynamap::app::runSimulate},
+    {"simulate", "run a scenario file: a rawlog with exact ground truth",
+     dynamap::app::runSimulate},
     {"import-carmen", "convert a CARMEN log (.log[.gz]) to an MRPT rawlog with its timestamps",
      dynamap::app::runImportCarmen},
     {"eval", "score a map result against a scenario's ground truth (paper's Table 3, SA/DA)",
@@ -29,7 +30,8 @@ void printHelp(std::ostream& out) {
   out << "dynamap — maps of environments in which things move\n\n"
          "usage: dynamap <command> [options]     (dynamap <command> --help for its options)\n\n"
          "commands:\n";
-  for (const auto& c : kCommands) out << "  " << c.name << std::string(16 - std::string(c.name).size(), ' ') << c.summary << "\n";
+  for (const auto& c : kCommands)
+    out << "  " << c.name << std::string(16 - std::string(c.name).size(), ' ') << c.summary << "\n";
   out << "\nexit status: 0 success, 1 error, 2 bad command line, 3 bad configuration,\n"
          "             4 input ended in a fault (outputs cover the part before it)\n";
 }

@@ -69,10 +69,12 @@ int runMap(const Args& args) {
       "out,o", po::value<std::string>()->default_value("out"), "output directory (created)")(
       "poses", po::value<std::string>(),
       "pose source: auto | simplemap | ground_truth | odometry (overrides [input] poses)")(
-      "no-baseline", "do not build the plain MRPT grid of the same scans (mrpt_plain.png and the\n"
-                     "comparison in summary.json); saves its time")(
-      "skip-bad-lines", "CARMEN input: skip malformed lines (counted in summary.json) instead "
-                        "of stopping at the first")(
+      "no-baseline",
+      "do not build the plain MRPT grid of the same scans (mrpt_plain.png and the\n"
+      "comparison in summary.json); saves its time")(
+      "skip-bad-lines",
+      "CARMEN input: skip malformed lines (counted in summary.json) instead "
+      "of stopping at the first")(
       "fov", po::value<double>(),
       "CARMEN input: field of view of every laser line [deg], overriding the log")(
       "frames-every", po::value<long>(),
@@ -105,14 +107,16 @@ int runMap(const Args& args) {
   carmen.skip_bad_lines = vm.count("skip-bad-lines") > 0;
   if (vm.count("fov")) {
     carmen.fov_deg = vm["fov"].as<double>();
-    if (!(carmen.fov_deg > 0 && carmen.fov_deg <= 360)) throw UsageError("--fov: must be in (0, 360] degrees");
+    if (!(carmen.fov_deg > 0 && carmen.fov_deg <= 360))
+      throw UsageError("--fov: must be in (0, 360] degrees");
   }
 
   prepareOutputDir(out_dir);  // before any work: an unwritable directory fails fast
   auto source = openScanSource(input, config.poses, &carmen);
   Mapper mapper(config);
   std::unique_ptr<PlainGrid> baseline;
-  if (!vm.count("no-baseline")) baseline = std::make_unique<PlainGrid>(config.map, config.insertion);
+  if (!vm.count("no-baseline"))
+    baseline = std::make_unique<PlainGrid>(config.map, config.insertion);
   std::chrono::steady_clock::duration baseline_time{};
   Progress progress(verbose || stderrIsTerminal());
   TrackLog tracks(out_dir);  // streamed: rows are never kept in memory
@@ -148,8 +152,8 @@ int runMap(const Args& args) {
               << std::setprecision(2) << wall_s << " s; outputs in " << out_dir << "/\n";
     if (baseline) {
       const PlainComparison cmp = comparePlain(mapper.map(), baseline->grid());
-      std::cerr << "dynamap map: plain MRPT grid of the same scans (" << baseline_s << " s): "
-                << cmp.plain_occupied_static_free
+      std::cerr << "dynamap map: plain MRPT grid of the same scans (" << baseline_s
+                << " s): " << cmp.plain_occupied_static_free
                 << " cells it holds occupied are free in S (things that moved); "
                 << cmp.static_occupied_plain_not << " cells S holds occupied it does not\n";
     }
