@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include "dynamap/config_check.h"
@@ -377,14 +379,14 @@ CarmenReader::CarmenReader(const std::string& path, const CarmenOptions& options
     error = e.what();
   }
   if (!opened) throw InputError(path + ": cannot open (" + error + ")");
+  text_size_ = static_cast<double>(uncompressedSize(path));
 }
 
 CarmenReader::~CarmenReader() = default;
 
 double CarmenReader::fractionRead() const {
-  const auto total = input_->in.getTotalBytesCount();
-  if (total == 0) return -1.0;
-  return std::min(1.0, static_cast<double>(input_->in.getPosition()) / static_cast<double>(total));
+  if (text_size_ == 0) return -1.0;
+  return std::min(1.0, static_cast<double>(input_->in.getPosition()) / text_size_);
 }
 
 bool CarmenReader::next(CarmenEvent& out) {

@@ -9,6 +9,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <fstream>
@@ -19,6 +20,22 @@
 #include "dynamap/pose_track.h"
 
 namespace dynamap {
+
+std::uint64_t uncompressedSize(const std::string& path) {
+  std::ifstream f(path, std::ios::binary | std::ios::ate);
+  if (!f) return 0;
+  const auto size = static_cast<std::streamoff>(f.tellg());
+  unsigned char head[2] = {0, 0};
+  f.seekg(0);
+  f.read(reinterpret_cast<char*>(head), 2);
+  if (!(head[0] == 0x1f && head[1] == 0x8b)) return static_cast<std::uint64_t>(size);
+  if (size < 18) return 0;
+  unsigned char tail[4];
+  f.seekg(size - 4);
+  f.read(reinterpret_cast<char*>(tail), 4);
+  if (!f) return 0;
+  return tail[0] | (tail[1] << 8) | (tail[2] << 16) | (static_cast<std::uint64_t>(tail[3]) << 24);
+}
 
 PoseSource parsePoseSource(const std::string& name) {
   if (name == "auto") return PoseSource::Auto;
@@ -107,7 +124,8 @@ double toSeconds(const mrpt::Clock::time_point& t) {
 /// time from the chosen pose source.
 class RawlogSource : public ScanSource {
  public:
-  RawlogSource(const std::string& path, PoseSource source) : path_(path), source_(source) {
+  RawlogSource(const std::string& path, PoseSource source)
+      : path_(path), source_(source), bytes_(static_cast<double>(uncompressedSize(path))) {
     if (!in_.open(path)) throw InputError(path + ": cannot open");
     if (source_ == PoseSource::GroundTruth && !hasGroundTruthInLog(path)) {
       const std::string gt = companionGroundTruth(path);
@@ -140,6 +158,9 @@ class RawlogSource : public ScanSource {
   PoseSource poseSource() const override { return source_; }
   const SourceStats& stats() const override { return stats_; }
   const std::string& path() const override { return path_; }
+  double fractionRead() const override {
+    return bytes_ > 0 ? std::min(1.0, static_cast<double>(in_.getPosition()) / bytes_) : -1.0;
+  }
 
  private:
   struct Pending {
@@ -260,6 +281,7 @@ class RawlogSource : public ScanSource {
 
   std::string path_;
   PoseSource source_;
+  double bytes_;  // uncompressed size, for fractionRead (0: unknown)
   mrpt::io::CFileGZInputStream in_;
   SourceStats stats_;
   PoseTrack poses_;

@@ -164,6 +164,7 @@ class CarmenReader {
   std::string path_;
   CarmenOptions options_;
   std::unique_ptr<LineInput> input_;
+  double text_size_ = 0;  // bytes of text in the file, for fractionRead (0: unknown)
   CarmenParams params_;
   std::optional<mrpt::poses::CPose2D> last_odometry_;
   SourceStats stats_;

@@ -66,6 +66,10 @@ class ScanSource {
   virtual double fractionRead() const { return -1.0; }
 };
 
+/// The bytes a reader of `path` will see: the file's size, or for gzip the trailer's ISIZE (the
+/// uncompressed size modulo 4 GiB); 0 when unknown. For progress estimates only.
+std::uint64_t uncompressedSize(const std::string& path);
+
 struct CarmenOptions;
 
 /// Opens `path`, telling its format by content (CARMEN text, simplemap, rawlog); `carmen`
