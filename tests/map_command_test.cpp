@@ -138,6 +138,30 @@ TEST(MapCommandErrors, ExitStatusesAndOneLineMessages) {
   EXPECT_NE(out.find("cannot create output directory"), std::string::npos) << out;
 }
 
+TEST(MapCommandFaults, ATruncatedLogMapsEverythingBeforeTheCutAndExitsWithFour) {
+  const std::string dir = test::tempDir("mapcut");
+  ASSERT_EQ(test::run("gzip -dc " + kTiny + " > " + dir + "/plain.rawlog"), 0);
+  const std::string bytes = test::readFile(dir + "/plain.rawlog");
+  std::ofstream(dir + "/cut.rawlog", std::ios::binary) << bytes.substr(0, bytes.size() / 2 + 7);
+  std::string out;
+  EXPECT_EQ(map("--input " + dir + "/cut.rawlog --out " + dir + "/o", &out), 4) << out;
+  EXPECT_NE(out.find("warning: input ended in a fault"), std::string::npos) << out;
+  EXPECT_NE(out.find("cut.rawlog: record "), std::string::npos) << out;
+  EXPECT_NE(out.find(" at byte "), std::string::npos) << out;
+  for (const char* f : {"static.png", "overlay.png", "static.gridmap.gz", "summary.json",
+                        "tracks.csv", "objects.csv"}) {
+    EXPECT_TRUE(fs::exists(dir + "/o/" + f)) << f;
+  }
+  const std::string summary = test::readFile(dir + "/o/summary.json");
+  EXPECT_NE(summary.find("\"complete_input\": false"), std::string::npos);
+  // About half of the 301 scans were mapped.
+  const auto pos = summary.find("\"used\": ");
+  ASSERT_NE(pos, std::string::npos);
+  const int used = std::stoi(summary.substr(pos + 8));
+  EXPECT_GT(used, 140);
+  EXPECT_LT(used, 160);
+}
+
 TEST(MapCommandHelp, ExplainsEveryOption) {
   std::string out;
   ASSERT_EQ(test::run(kExe + " map --help", &out), 0);
