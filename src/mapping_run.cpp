@@ -257,9 +257,8 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
   const DynamicGridMap& m = mapper.map();
   saveImageAtomically(renderStatic(m), dir, "static.png");
   saveImageAtomically(renderDynamic(m), dir, "dynamic.png");
-  saveImageAtomically(
-      renderOverlay(m, mapper.path(), overlayScale(m.getSizeX()), &mapper.tracker().objects()), dir,
-      "overlay.png");
+  saveImageAtomically(renderOverlay(m, mapper.path(), &mapper.tracker().objects()), dir,
+                      "overlay.png");
   writeGridmap(m, dir, "static.gridmap.gz");
   writeDynamicGridmap(m, dir, "dynamic.gridmap.gz");
   writeRosMap(m, dir, "static");

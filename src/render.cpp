@@ -26,21 +26,27 @@ inline std::uint8_t grey(const mrpt::maps::COccupancyGridMap2D& map, std::size_t
   return DynamicGridMap::l2p_255(map.getRawMap()[i]);
 }
 
-// Fills an image of the grid at `scale` px per cell, colour from a cell's linear index.
+// Fills an image of the cells in `view`, colour from a cell's linear index.
 template <typename ColourOf>
-CImage paintCells(const DynamicGridMap& map, int scale, ColourOf colour) {
-  const unsigned sx = map.getSizeX(), sy = map.getSizeY();
-  CImage img(sx * scale, sy * scale, mrpt::img::CH_RGB);
-  for (unsigned cy = 0; cy < sy; ++cy) {
-    const int row0 = static_cast<int>((sy - 1 - cy) * scale);
-    for (unsigned cx = 0; cx < sx; ++cx) {
+CImage paintCells(const DynamicGridMap& map, const View& view, ColourOf colour) {
+  const std::size_t sx = map.getSizeX();
+  const int scale = view.scale, w = view.cx1 - view.cx0, h = view.cy1 - view.cy0;
+  CImage img(w * scale, h * scale, mrpt::img::CH_RGB);
+  for (int cy = view.cy0; cy < view.cy1; ++cy) {
+    const int row0 = (view.cy1 - 1 - cy) * scale;
+    for (int cx = view.cx0; cx < view.cx1; ++cx) {
       const Bgr c = colour(cx + static_cast<std::size_t>(cy) * sx);
+      const int col0 = (cx - view.cx0) * scale;
       for (int dy = 0; dy < scale; ++dy) {
-        for (int dx = 0; dx < scale; ++dx) put(img, cx * scale + dx, row0 + dy, c);
+        for (int dx = 0; dx < scale; ++dx) put(img, col0 + dx, row0 + dy, c);
       }
     }
   }
   return img;
+}
+
+View wholeGrid(const DynamicGridMap& map) {
+  return {0, 0, static_cast<int>(map.getSizeX()), static_cast<int>(map.getSizeY()), 1};
 }
 
 }  // namespace
@@ -58,7 +64,7 @@ CImage renderStatic(const mrpt::maps::COccupancyGridMap2D& map) {
 
 CImage renderDynamic(const DynamicGridMap& map) {
   const auto& d = map.dynamicRaw();
-  return paintCells(map, 1, [&](std::size_t i) {
+  return paintCells(map, wholeGrid(map), [&](std::size_t i) {
     const float p = 1.0f - DynamicGridMap::l2p(d[i]);
     if (p > 0.5f) {
       // White at 0.5 to deep red at 1.
@@ -77,32 +83,57 @@ int overlayScale(unsigned size_x, unsigned min_width) {
   return static_cast<int>(std::clamp(s, 1u, 8u));
 }
 
-Pixel toPixel(const DynamicGridMap& map, int scale, double x, double y) {
-  const double fx = (x - map.getXMin()) / map.getResolution();
-  const double fy = (y - map.getYMin()) / map.getResolution();
-  return {static_cast<int>(std::floor(fx * scale)),
-          static_cast<int>(std::floor((map.getSizeY() - fy) * scale))};
+View observedView(const DynamicGridMap& map, int margin) {
+  const auto& cells = map.getRawMap();
+  const int sx = static_cast<int>(map.getSizeX()), sy = static_cast<int>(map.getSizeY());
+  int x0 = sx, y0 = sy, x1 = -1, y1 = -1;
+  for (int cy = 0; cy < sy; ++cy) {
+    const auto* row = &cells[static_cast<std::size_t>(cy) * sx];
+    for (int cx = 0; cx < sx; ++cx) {
+      if (row[cx] == 0) continue;
+      x0 = std::min(x0, cx);
+      x1 = std::max(x1, cx);
+      y0 = std::min(y0, cy);
+      y1 = std::max(y1, cy);
+    }
+  }
+  View v = wholeGrid(map);
+  if (x1 >= 0) {
+    v = {std::max(0, x0 - margin), std::max(0, y0 - margin), std::min(sx, x1 + 1 + margin),
+         std::min(sy, y1 + 1 + margin), 1};
+  }
+  v.scale = overlayScale(static_cast<unsigned>(v.cx1 - v.cx0));
+  return v;
 }
 
-CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path, int scale,
+Pixel toPixel(const DynamicGridMap& map, const View& view, double x, double y) {
+  const double fx = (x - map.getXMin()) / map.getResolution() - view.cx0;
+  const double fy = (y - map.getYMin()) / map.getResolution();
+  return {static_cast<int>(std::floor(fx * view.scale)),
+          static_cast<int>(std::floor((view.cy1 - fy) * view.scale))};
+}
+
+CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
                      const std::vector<TrackedObject>* objects) {
-  CImage img = paintCells(map, scale, [&](std::size_t i) {
+  const View view = observedView(map);
+  CImage img = paintCells(map, view, [&](std::size_t i) {
     if (map.isObjectIndex(i)) return Bgr{0, 0, 230};
     const std::uint8_t g = grey(map, i);
     return Bgr{g, g, g};
   });
   const mrpt::img::TColor blue(40, 90, 255);
   for (std::size_t k = 1; k < path.size(); ++k) {
-    const Pixel a = toPixel(map, scale, path[k - 1].x, path[k - 1].y);
-    const Pixel b = toPixel(map, scale, path[k].x, path[k].y);
+    const Pixel a = toPixel(map, view, path[k - 1].x, path[k - 1].y);
+    const Pixel b = toPixel(map, view, path[k].x, path[k].y);
     img.line(a.x, a.y, b.x, b.y, blue, 1);
   }
-  if (objects) drawObjects(img, map, scale, *objects);
+  if (objects) drawObjects(img, map, view, *objects);
   return img;
 }
 
-void drawObjects(CImage& img, const DynamicGridMap& map, int scale,
+void drawObjects(CImage& img, const DynamicGridMap& map, const View& view,
                  const std::vector<TrackedObject>& objects) {
+  const int scale = view.scale;
   const mrpt::img::TColor box(0, 150, 0), text(0, 0, 0), label_bg(255, 240, 120);
   // Big pictures get the bigger font; 6x13 keeps labels readable on small maps.
   const bool big = img.getWidth() >= 1000;
@@ -112,8 +143,8 @@ void drawObjects(CImage& img, const DynamicGridMap& map, int scale,
   for (const TrackedObject& o : objects) {
     if (o.state != ObjectState::Present) continue;
     const ShapeEstimate& s = o.shape;
-    const Pixel p0 = toPixel(map, scale, s.x_min, s.y_max);
-    const Pixel p1 = toPixel(map, scale, s.x_max, s.y_min);
+    const Pixel p0 = toPixel(map, view, s.x_min, s.y_max);
+    const Pixel p1 = toPixel(map, view, s.x_max, s.y_min);
     // At least a few pixels around the object, so that small ones stay visible.
     const int pad = std::max(2, scale / 2);
     img.rectangle(p0.x - pad, p0.y - pad, p1.x + pad, p1.y + pad, box, 2);

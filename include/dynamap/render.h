@@ -28,21 +28,30 @@ mrpt::img::CImage renderDynamic(const DynamicGridMap& map);
 /// (capped at 8; 1 for grids already that wide).
 int overlayScale(unsigned size_x, unsigned min_width = 800);
 
+/// The window of the grid a picture shows: cells [cx0, cx1) x [cy0, cy1), `scale` px per cell.
+struct View {
+  int cx0 = 0, cy0 = 0, cx1 = 0, cy1 = 0;
+  int scale = 1;
+};
+/// The cells S has observed (any cell off the prior) with `margin` cells around them, clipped to
+/// the grid, at the scale overlayScale gives its width; the whole grid if nothing is observed.
+View observedView(const DynamicGridMap& map, int margin = 20);
+
 /// S in grey levels, D cells above object_threshold in red, the robot's path as a thin blue line,
 /// and, given `objects`, each present object's box and circle with a label "<id>: <size> m".
-/// `scale` pixels per cell.
+/// Shows the observed part of the grid (observedView), not the unknown margins around it.
 mrpt::img::CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
-                                int scale, const std::vector<TrackedObject>* objects = nullptr);
+                                const std::vector<TrackedObject>* objects = nullptr);
 
-/// Draws each present object of `objects` on an image of `map` at `scale` px per cell: its box,
-/// its estimated outline, and its label on a filled background, kept inside the image.
-void drawObjects(mrpt::img::CImage& img, const DynamicGridMap& map, int scale,
+/// Draws each present object of `objects` on an image of `map` in `view`: its box, its
+/// estimated outline, and its label on a filled background, kept inside the image.
+void drawObjects(mrpt::img::CImage& img, const DynamicGridMap& map, const View& view,
                  const std::vector<TrackedObject>& objects);
 
-/// Pixel of a world point in an image of `map` drawn at `scale` pixels per cell (north up).
+/// Pixel of a world point in an image of `map` drawn in `view` (north up).
 struct Pixel {
   int x, y;
 };
-Pixel toPixel(const DynamicGridMap& map, int scale, double x, double y);
+Pixel toPixel(const DynamicGridMap& map, const View& view, double x, double y);
 
 }  // namespace dynamap

@@ -34,9 +34,7 @@ void writeFrame(const std::string& dir, const Mapper& mapper, std::size_t scan_i
   const auto& m = mapper.map();
   char name[32];
   std::snprintf(name, sizeof name, "%06zu.png", scan_index);
-  saveImageAtomically(
-      renderOverlay(m, mapper.path(), overlayScale(m.getSizeX()), &mapper.tracker().objects()), dir,
-      name);
+  saveImageAtomically(renderOverlay(m, mapper.path(), &mapper.tracker().objects()), dir, name);
 }
 
 // Frames into timelapse.mp4 when ffmpeg is on PATH; a note on stderr otherwise.
