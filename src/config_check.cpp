@@ -26,6 +26,19 @@ std::string stripComment(const std::string& s) {
 
 }  // namespace
 
+void rejectValue(const std::string& source, const std::string& section, const std::string& key,
+                 const std::string& why) {
+  throw ConfigError(source + ": [" + section + "] " + key + ": " + why);
+}
+
+void requireInRange(const std::string& source, const std::string& section, const std::string& key,
+                    double value, double lo, double hi, const std::string& range_text) {
+  if (value >= lo && value <= hi) return;
+  std::ostringstream m;
+  m << value << " must be " << range_text;
+  rejectValue(source, section, key, m.str());
+}
+
 bool parseDouble(const std::string& text, double& out) {
   const std::string t = trim(text);
   if (t.empty()) return false;

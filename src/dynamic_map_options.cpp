@@ -19,7 +19,7 @@ const char* const kMapKeys[] = {
 
 [[noreturn]] void reject(const std::string& source, const char* section, const char* key,
                          const std::string& why) {
-  throw ConfigError(source + ": [" + section + "] " + key + ": " + why);
+  rejectValue(source, section, key, why);
 }
 
 // MRPT's 8-bit cells hold 16 log-odds units per nat: an update must move a cell by >= 1 unit.
@@ -85,9 +85,7 @@ void DynamicMapOptions::validate(const std::string& src) const {
   if (resolution < 0.005 || resolution > 10.0) {
     reject(src, sec, "resolution", "must be within [0.005, 10] m");
   }
-  if (!(max_map_size_m >= 1.0 && max_map_size_m <= 10000.0)) {
-    reject(src, sec, "max_map_size_m", "must be within [1, 10000] m");
-  }
+  requireInRange(src, sec, "max_map_size_m", max_map_size_m, 1.0, 10000.0, "within [1, 10000] m");
   requireOpenUnit(src, "free_threshold", free_threshold);
   requireOpenUnit(src, "object_threshold", object_threshold);
   if (!(free_threshold < object_threshold)) {
@@ -103,9 +101,7 @@ void DynamicMapOptions::validate(const std::string& src) const {
   if (!(d_max > object_threshold)) {
     reject(src, sec, "d_max", "must be above object_threshold, or no object is ever seen");
   }
-  if (wall_guard_cells < 0 || wall_guard_cells > 3) {
-    reject(src, sec, "wall_guard_cells", "must be an integer in [0, 3]");
-  }
+  requireInRange(src, sec, "wall_guard_cells", wall_guard_cells, 0, 3, "an integer in [0, 3]");
   requireOpenUnit(src, "d_min", d_min);
   if (!(d_min < object_threshold)) {
     reject(src, sec, "d_min", "must be below object_threshold, or every cell is an object");

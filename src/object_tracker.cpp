@@ -22,16 +22,12 @@ namespace dynamap {
 namespace {
 
 [[noreturn]] void reject(const std::string& source, const char* key, const std::string& why) {
-  throw ConfigError(source + ": [" + ObjectOptions::kSection + "] " + key + ": " + why);
+  rejectValue(source, ObjectOptions::kSection, key, why);
 }
 
 void requireRange(const std::string& src, const char* key, double v, double lo, double hi,
                   const char* text) {
-  if (!(v >= lo && v <= hi)) {
-    std::ostringstream m;
-    m << v << " must be " << text;
-    reject(src, key, m.str());
-  }
+  requireInRange(src, ObjectOptions::kSection, key, v, lo, hi, text);
 }
 
 }  // namespace

@@ -89,7 +89,11 @@ TEST(MapOptions, ResolutionMustBePositive) {
   expectError("[dynamic_map]\nresolution = 0.001\n",
               "my.ini: [dynamic_map] resolution: must be within");
   expectError("[dynamic_map]\nmax_map_size_m = 0.5\n",
-              "my.ini: [dynamic_map] max_map_size_m: must be within [1, 10000] m");
+              "my.ini: [dynamic_map] max_map_size_m: 0.5 must be within [1, 10000] m");
+  expectError("[dynamic_map]\nwall_guard_cells = 5\n",
+              "my.ini: [dynamic_map] wall_guard_cells: 5 must be an integer in [0, 3]");
+  expectError("[dynamic_map]\nwall_guard_cells = 1.5\n",
+              "my.ini: [dynamic_map] wall_guard_cells: '1.5' is not an integer");
 }
 
 TEST(MapOptions, UnknownOrMisspelledKeysAndSectionsAreErrors) {

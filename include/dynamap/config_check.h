@@ -63,6 +63,13 @@ class IniFile {
   std::string name_;
 };
 
+/// Throws ConfigError "<source>: [section] key: why" — for checks on values already loaded.
+[[noreturn]] void rejectValue(const std::string& source, const std::string& section,
+                              const std::string& key, const std::string& why);
+/// Throws unless lo <= value <= hi: "<source>: [section] key: <value> must be <range_text>".
+void requireInRange(const std::string& source, const std::string& section, const std::string& key,
+                    double value, double lo, double hi, const std::string& range_text);
+
 /// Strict number parsing shared by every reader: the whole text must be the number.
 bool parseDouble(const std::string& text, double& out);
 bool parseLong(const std::string& text, long& out);
