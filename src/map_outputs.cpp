@@ -14,8 +14,6 @@
 namespace dynamap {
 namespace fs = std::filesystem;
 
-namespace {
-
 std::string tempName(const std::string& dir, const std::string& name) {
   // Keep the extension: image and gz writers choose their format by it.
   return (fs::path(dir) / (".tmp-" + name)).string();
@@ -30,8 +28,6 @@ void commit(const std::string& tmp, const std::string& dir, const std::string& n
                              ")");
   }
 }
-
-}  // namespace
 
 void writeFileAtomically(const std::string& dir, const std::string& name,
                          const std::function<void(std::ostream&)>& write) {

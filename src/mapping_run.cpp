@@ -99,8 +99,7 @@ std::string fmt(const char* format, double v) {
 
 }  // namespace
 
-TrackLog::TrackLog(const std::string& dir)
-    : dir_(dir), tmp_((std::filesystem::path(dir) / ".tmp-tracks.csv").string()) {
+TrackLog::TrackLog(const std::string& dir) : dir_(dir), tmp_(tempName(dir, "tracks.csv")) {
   out_ = std::make_unique<std::ofstream>(tmp_, std::ios::binary | std::ios::trunc);
   if (!*out_) throw std::runtime_error(dir + "/tracks.csv: cannot write");
   *out_ << "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n";
@@ -128,12 +127,12 @@ void TrackLog::finish() {
   out_->flush();
   const bool ok = static_cast<bool>(*out_);
   out_.reset();
-  std::error_code ec;
-  if (ok) std::filesystem::rename(tmp_, std::filesystem::path(dir_) / "tracks.csv", ec);
-  if (!ok || ec) {
+  if (!ok) {
+    std::error_code ec;
     std::filesystem::remove(tmp_, ec);
     throw std::runtime_error(dir_ + "/tracks.csv: cannot write");
   }
+  commit(tmp_, dir_, "tracks.csv");
 }
 
 void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {

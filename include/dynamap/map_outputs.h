@@ -15,6 +15,12 @@ class CImage;
 
 namespace dynamap {
 
+/// The temporary path `dir/name` is written under before commit() gives it its final name
+/// (same directory, same extension).
+std::string tempName(const std::string& dir, const std::string& name);
+/// Renames `tmp` to `dir/name`; on failure removes `tmp` and throws naming the final file.
+void commit(const std::string& tmp, const std::string& dir, const std::string& name);
+
 /// Writes `dir/name` through `write` (text or binary stream), atomically. Throws on I/O errors.
 void writeFileAtomically(const std::string& dir, const std::string& name,
                          const std::function<void(std::ostream&)>& write);
