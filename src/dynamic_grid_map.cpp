@@ -206,11 +206,12 @@ bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
   const mrpt::poses::CPose2D sensor = computeBeams(scan, robot_pose);  // 1. where beams end
   if (!growToFit(sensor)) return false;                                // 2. room for them
   m_likelihoodCacheOutDated = true;
-  nextStamp();   // 3. a fresh scan mark
-  applyHits();   // 4. hits first
-  planWedges();  // 5. area between beams
+  nextStamp();      // 3. a fresh scan mark
+  applyHits();      // 4. hits first
+  guardSurfaces();  // 5. how far each beam frees
+  planWedges();     // 6. area between beams
   sweepFreeArea(sensor);
-  traceBeamTails(sensor);  // 6. each beam beyond it
+  traceBeamTails(sensor);  // 7. each beam beyond it
   last_stats_.inserted = last_stats_.beams_used > 0;
   last_stats_.skip_reason = last_stats_.inserted ? nullptr : "no usable beam";
   return last_stats_.inserted;
@@ -302,6 +303,46 @@ void DynamicGridMap::applyHits() {
   last_stats_.hit_cells = static_cast<std::uint32_t>(hits_.size());
 }
 
+namespace {
+// Incidence below 1 degree: the neighbour's end point lies on another surface (a depth jump).
+const double kMinSurfaceSin = std::sin(M_PI / 180.0);
+}  // namespace
+
+void DynamicGridMap::guardSurfaces() {
+  // The surface a beam hit runs towards its neighbours' end points (when they hit too); across
+  // that surface, range noise and the cell grid spread its hits over a band about a cell wide.
+  // A beam meeting the surface at incidence a crosses a band of width surface_guard over
+  // surface_guard / sin(a) of its length, a beam at right angles over surface_guard: the
+  // difference is left unfreed, so a beam grazing a wall stops freeing before it reaches the
+  // wall's cells. Of the two neighbours the one that gives the
+  // steeper incidence wins, so the edge of an object in front of a wall (where one neighbour
+  // lies on another surface) keeps the short guard of the surface the beam did hit, and a
+  // neighbour seen at less than a degree is a depth jump, not this surface.
+  const double guard = options_.surface_guard;
+  const double guard_max = std::max(guard, options_.surface_guard_max);
+  const std::size_t n = beams_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    Beam& b = beams_[i];
+    b.stop = b.reach;
+    if (b.kind != kBeamHit || guard <= 0.0) continue;
+    double sin_a = -1.0;  // none known
+    for (const std::size_t j : {i - 1, i + 1}) {
+      if (j >= n || beams_[j].kind != kBeamHit) continue;  // i - 1 wraps round at i = 0
+      const double tx = beams_[j].end_x - b.end_x, ty = beams_[j].end_y - b.end_y;
+      const double len = std::hypot(tx, ty);
+      if (len <= 0.0) continue;
+      const double s = std::abs(b.cos * ty - b.sin * tx) / len;
+      // Nearly along the beam: a depth jump to another surface, not the one hit.
+      if (s >= kMinSurfaceSin) sin_a = std::max(sin_a, s);
+    }
+    if (sin_a <= 0.0) continue;  // no neighbour on the surface: as at right angles
+    // What the slant adds to the band's crossing, compared with a beam at right angles (whose
+    // cells up to the end cell are freed, as MRPT does).
+    const double along = std::min(guard_max, guard / std::max(sin_a, 1e-6) - guard);
+    b.stop = static_cast<float>(std::max(0.0, b.reach - along));
+  }
+}
+
 void DynamicGridMap::planWedges() {
   // A wedge spans kWedgeBeams adjacent beam gaps and is surely free up to the shortest of its
   // beams, less a cell so that end cells (and a wall between two end points) are left to the
@@ -315,7 +356,7 @@ void DynamicGridMap::planWedges() {
     const std::size_t last = std::min(first + kWedgeBeams, n - 1);
     float shortest = std::numeric_limits<float>::max();
     for (std::size_t i = first; i <= last && shortest > 0.0f; ++i) {
-      shortest = beams_[i].kind == kBeamNone ? 0.0f : std::min(shortest, beams_[i].reach);
+      shortest = beams_[i].kind == kBeamNone ? 0.0f : std::min(shortest, beams_[i].stop);
     }
     const double radius = std::max(0.0, static_cast<double>(shortest) - m_resolution);
     wedges_.push_back({first, last, radius});
@@ -371,9 +412,13 @@ void DynamicGridMap::traceBeamTails(const mrpt::poses::CPose2D& sensor) {
     ++last_stats_.beams_used;
     // Start a cell before the swept area stops covering the beam, so the two join up.
     const double from = std::max(0.0, b.covered - m_resolution);
+    if (b.stop < from) continue;  // the surface guard reaches back into the swept area
     const double sx = sensor.x() + b.cos * from;
     const double sy = sensor.y() + b.sin * from;
-    traceRay(x2idx(sx), y2idx(sy), x2idx(b.end_x), y2idx(b.end_y), [&miss, size_x](int cx, int cy) {
+    const bool whole = b.stop >= b.reach;
+    const double ex = whole ? b.end_x : sensor.x() + b.cos * b.stop;
+    const double ey = whole ? b.end_y : sensor.y() + b.sin * b.stop;
+    traceRay(x2idx(sx), y2idx(sy), x2idx(ex), y2idx(ey), [&miss, size_x](int cx, int cy) {
       miss.visit(cx + static_cast<std::size_t>(cy) * size_x);
     });
   }

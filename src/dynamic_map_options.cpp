@@ -13,9 +13,9 @@ namespace dynamap {
 namespace {
 
 const char* const kMapKeys[] = {
-    "resolution", "max_map_size_m", "free_threshold",  "object_threshold", "s_hit_notfree",
-    "s_hit_free", "s_miss",         "d_hit_free",      "d_hit_notfree",    "d_miss",
-    "d_max",      "d_min",          "wall_guard_cells"};
+    "resolution", "max_map_size_m", "free_threshold",   "object_threshold", "s_hit_notfree",
+    "s_hit_free", "s_miss",         "d_hit_free",       "d_hit_notfree",    "d_miss",
+    "d_max",      "d_min",          "wall_guard_cells", "surface_guard",    "surface_guard_max"};
 
 [[noreturn]] void reject(const std::string& source, const char* section, const char* key,
                          const std::string& why) {
@@ -76,6 +76,8 @@ void DynamicMapOptions::load(const IniFile& ini) {
   d_max = ini.getDouble(s, "d_max", d_max);
   d_min = ini.getDouble(s, "d_min", d_min);
   wall_guard_cells = static_cast<int>(ini.getInt(s, "wall_guard_cells", wall_guard_cells));
+  surface_guard = ini.getDouble(s, "surface_guard", surface_guard);
+  surface_guard_max = ini.getDouble(s, "surface_guard_max", surface_guard_max);
   validate(ini.name());
 }
 
@@ -102,6 +104,8 @@ void DynamicMapOptions::validate(const std::string& src) const {
     reject(src, sec, "d_max", "must be above object_threshold, or no object is ever seen");
   }
   requireInRange(src, sec, "wall_guard_cells", wall_guard_cells, 0, 3, "an integer in [0, 3]");
+  requireInRange(src, sec, "surface_guard", surface_guard, 0.0, 1.0, "within [0, 1] m");
+  requireInRange(src, sec, "surface_guard_max", surface_guard_max, 0.0, 10.0, "within [0, 10] m");
   requireOpenUnit(src, "d_min", d_min);
   if (!(d_min < object_threshold)) {
     reject(src, sec, "d_min", "must be below object_threshold, or every cell is an object");
@@ -124,7 +128,11 @@ void DynamicMapOptions::writeIni(std::ostream& out) const {
       << "d_max = " << d_max << "            ; D saturates at this P(occ)\n"
       << "d_min = " << d_min << "             ; D never falls below this P(occ)\n"
       << "wall_guard_cells = " << wall_guard_cells
-      << "    ; hits within this many cells of S-occupied ones are not in free space\n";
+      << "    ; hits within this many cells of S-occupied ones are not in free space\n"
+      << "surface_guard = " << surface_guard
+      << "     ; [m] beams do not free cells this close (across) to the surface they hit\n"
+      << "surface_guard_max = " << surface_guard_max
+      << " ; [m] ...nor farther than this back along the beam\n";
 }
 
 void DynamicMapOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

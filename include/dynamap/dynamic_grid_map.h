@@ -107,6 +107,7 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   void applyHits();
   void sweepFreeArea(const mrpt::poses::CPose2D& sensor);
   void traceBeamTails(const mrpt::poses::CPose2D& sensor);
+  void guardSurfaces();
   void planWedges();
   /// Re-aligns D and the scan stamps with S after any change of S's geometry.
   void syncLayers();
@@ -163,7 +164,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   enum BeamKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
   struct Beam {
     double cos = 1, sin = 0;  // direction in the map frame
-    float reach = 0;          // [m] how far the beam frees space (0: not used)
+    float reach = 0;          // [m] how far the beam reaches (0: not used)
+    float stop = 0;           // [m] how far it frees space: reach less the surface guard
     float end_x = 0, end_y = 0;
     BeamKind kind = kBeamNone;
     double covered = 0;  // [m] the swept wedges free this beam's line up to here

@@ -39,6 +39,16 @@ struct DynamicMapOptions : public mrpt::config::CLoadableOptions {
   /// (P(occ) > 0.5): range noise and grazing beams at walls then never look like objects.
   /// 0 is the paper's rule; in [0, 3].
   int wall_guard_cells = 1;
+  /// [m] Width of the band along a surface that a beam hitting it at a slant does not free.
+  /// The surface runs through the neighbouring beams' end points; a beam at incidence a
+  /// crosses the band over surface_guard / sin(a) of its length, one at right angles over
+  /// surface_guard, and stops freeing the difference earlier (at right angles: as MRPT, every
+  /// cell up to the hit). A beam grazing a wall then no longer frees the wall's own cells,
+  /// which range noise and the cell grid spread over a band about a cell wide. In [0, 1].
+  double surface_guard = 0.05;
+  /// [m] The guard along a beam never exceeds this (a beam nearly parallel to a wall, or at
+  /// the edge of an object in front of a wall); in [0, 10].
+  double surface_guard_max = 1.0;
   /// D never falls below this P(occ). Without a floor, a cell crossed by beams for minutes
   /// would need as many hits to show an object that then arrives; 0.5 (the prior) makes 5 hits
   /// enough wherever the object appears; in (0, object_threshold).
