@@ -34,16 +34,18 @@ void requireRange(const std::string& src, const char* key, double v, double lo, 
 
 void ObjectOptions::load(const IniFile& ini) {
   const std::string s = kSection;
-  ini.requireKnownKeys(s, {"enabled", "join_distance", "min_cells", "min_size", "max_size",
-                           "confirm_scans", "wall_hug_distance", "thin_width", "thin_length",
-                           "size_tolerance", "reappear_distance", "follow_margin", "move_distance",
-                           "defer_s", "match_time_scale", "match_distance_scale", "min_fit_cells"});
+  ini.requireKnownKeys(
+      s, {"enabled", "join_distance", "min_cells", "min_size", "max_size", "confirm_scans",
+          "settle_size", "wall_hug_distance", "thin_width", "thin_length", "size_tolerance",
+          "reappear_distance", "follow_margin", "move_distance", "defer_s", "match_time_scale",
+          "match_distance_scale", "min_fit_cells"});
   enabled = ini.getBool(s, "enabled", enabled);
   join_distance = ini.getDouble(s, "join_distance", join_distance);
   min_cells = static_cast<int>(ini.getInt(s, "min_cells", min_cells));
   min_size = ini.getDouble(s, "min_size", min_size);
   max_size = ini.getDouble(s, "max_size", max_size);
   confirm_scans = static_cast<int>(ini.getInt(s, "confirm_scans", confirm_scans));
+  settle_size = ini.getDouble(s, "settle_size", settle_size);
   wall_hug_distance = ini.getDouble(s, "wall_hug_distance", wall_hug_distance);
   thin_width = ini.getDouble(s, "thin_width", thin_width);
   thin_length = ini.getDouble(s, "thin_length", thin_length);
@@ -66,6 +68,7 @@ void ObjectOptions::validate(const std::string& src) const {
   requireRange(src, "min_size", min_size, 0.0, 20.0, "in [0, max_size) m");
   if (!(min_size < max_size)) reject(src, "min_size", "must be below max_size");
   requireRange(src, "confirm_scans", confirm_scans, 1, 1000, "in [1, 1000]");
+  requireRange(src, "settle_size", settle_size, 0.0, 1.0, "in [0, 1] m");
   requireRange(src, "wall_hug_distance", wall_hug_distance, 0.0, 1.0, "in [0, 1] m");
   requireRange(src, "thin_width", thin_width, 0.0, 1.0, "in [0, 1] m");
   requireRange(src, "thin_length", thin_length, 0.0, 20.0, "in [0, 20] m");
@@ -88,6 +91,8 @@ void ObjectOptions::writeIni(std::ostream& out) const {
       << "min_size = " << min_size << " ; [m] smaller estimated sizes are noise\n"
       << "max_size = " << max_size << " ; [m] larger clusters are not objects\n"
       << "confirm_scans = " << confirm_scans << " ; scans a new cluster must last to be reported\n"
+      << "settle_size = " << settle_size
+      << " ; [m] ...with its size changing no more than this from scan to scan\n"
       << "wall_hug_distance = " << wall_hug_distance
       << " ; [m] D cells this close to S-occupied cells are wall noise\n"
       << "thin_width = " << thin_width
@@ -317,6 +322,74 @@ double wrapAngle(double a) {
 
 }  // namespace
 
+bool estimatePointShape(const std::vector<double>& xs, const std::vector<double>& ys, double gap,
+                        double sensor_x, double sensor_y, const ObjectOptions& options,
+                        ShapeEstimate& out) {
+  const std::size_t n = std::min(xs.size(), ys.size());
+  if (n == 0 || static_cast<int>(n) < options.min_fit_cells) return false;
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300, mx = 0, my = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    x0 = std::min(x0, xs[i]);
+    x1 = std::max(x1, xs[i]);
+    y0 = std::min(y0, ys[i]);
+    y1 = std::max(y1, ys[i]);
+    mx += xs[i];
+    my += ys[i];
+  }
+  mx /= static_cast<double>(n);
+  my /= static_cast<double>(n);
+  double width2 = 0;  // the widest chord: the visible outline of a convex object
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const double dx = xs[i] - xs[j], dy = ys[i] - ys[j];
+      width2 = std::max(width2, dx * dx + dy * dy);
+    }
+  }
+  const double width = std::sqrt(width2);
+  ShapeEstimate s;
+  s.cells = n;
+  s.length = width;
+  s.thickness = minorAxisStd(xs, ys);
+  Circle c{};
+  if (fitCircle(xs, ys, c)) {
+    const double d = 2 * c.r;
+    double rss = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double e = std::hypot(xs[i] - c.cx, ys[i] - c.cy) - c.r;
+      rss += e * e;
+    }
+    const double rms = std::sqrt(rss / static_cast<double>(n));
+    // Sane: the points span a few centimetres of arc at least, lie on it (range noise of a
+    // centimetre or two), it is no narrower than
+    // they are and not far wider (a short flat arc fits any large circle), and it bulges
+    // towards the sensor, as a solid seen from outside does.
+    const bool beyond =
+        std::hypot(c.cx - sensor_x, c.cy - sensor_y) > std::hypot(mx - sensor_x, my - sensor_y);
+    if (width >= 0.04 && rms <= 0.02 && d >= width - 0.02 &&
+        d <= std::max(1.5 * width, width + 0.06) && d <= options.max_size && beyond) {
+      s.circle = true;
+      s.cx = c.cx;
+      s.cy = c.cy;
+      s.size = std::max(d, width);
+      s.x_min = c.cx - 0.5 * s.size;
+      s.x_max = c.cx + 0.5 * s.size;
+      s.y_min = c.cy - 0.5 * s.size;
+      s.y_max = c.cy + 0.5 * s.size;
+      out = s;
+      return true;
+    }
+  }
+  s.size = width + gap;
+  s.cx = 0.5 * (x0 + x1);
+  s.cy = 0.5 * (y0 + y1);
+  s.x_min = std::min(x0, s.cx - 0.5 * s.size);
+  s.x_max = std::max(x1, s.cx + 0.5 * s.size);
+  s.y_min = std::min(y0, s.cy - 0.5 * s.size);
+  s.y_max = std::max(y1, s.cy + 0.5 * s.size);
+  out = s;
+  return true;
+}
+
 std::vector<std::vector<CellXY>> clusterCells(const std::vector<CellXY>& cells, double join_cells) {
   std::unordered_set<CellKey> all;
   std::vector<CellKey> keys;
@@ -454,10 +527,13 @@ void ObjectTracker::update(const DynamicGridMap& map, const ScanView& view, doub
   foldChanges(map, dirty);
   // 2. Re-cluster around them only; clusters go to the track owning most of their cells.
   if (!dirty.empty()) recluster(map, dirty);
+  // 2b. This scan's hit points on them, for a finer size.
+  if (!view.empty()) sensor_x_ = view.x, sensor_y_ = view.y;
+  collectPoints(map, view);
   // 3. Objects whose cells all faded were seen gone: disappeared.
   dropLostTracks(t, scan_index);
   // 4. Places left by unseen moves: seen free ends them, seen occupied revives them.
-  checkStalePlaces(view);
+  checkStalePlaces(view, t, scan_index);
   // 5. Clusters that lasted confirm_scans get an identity by size: new, moved, reappeared.
   confirmTentatives(view, t, scan_index);
   // 6. Present objects that drifted (a person walking) moved; refresh the table.
@@ -611,7 +687,27 @@ void ObjectTracker::refresh(Track& tr, double res) {
   std::vector<CellXY> xy;
   xy.reserve(tr.cells.size());
   for (const CellKey k : tr.cells) xy.push_back(cellOf(k));
-  const ShapeEstimate s = estimateShape(xy, res, options_);
+  ShapeEstimate s = estimateShape(xy, res, options_);
+  // The hit points in its cells, when there are enough, measure it to the centimetre.
+  std::vector<double> px, py;
+  double gap = std::numeric_limits<double>::infinity();  // the nearest view's beam spacing
+  for (auto it = tr.points.begin(); it != tr.points.end();) {
+    if (!std::binary_search(tr.cells.begin(), tr.cells.end(), it->second.cell)) {
+      it = tr.points.erase(it);  // its cell left the object: a point of the past
+      continue;
+    }
+    px.push_back(it->second.x);
+    py.push_back(it->second.y);
+    gap = std::min(gap, it->second.gap);
+    ++it;
+  }
+  ShapeEstimate fine;
+  if (estimatePointShape(px, py, gap, sensor_x_, sensor_y_, options_, fine)) {
+    fine.cells = s.cells;  // the filters and the fading rule count cells
+    fine.thickness = s.thickness;
+    fine.length = s.length;
+    s = fine;
+  }
   // A fading object keeps the estimate made from the most cells: its last cells are a part.
   if (tr.id == 0 || s.cells >= tr.best_cells) {
     tr.shape = s;
@@ -656,22 +752,46 @@ void ObjectTracker::dropLostTracks(double t, std::size_t scan_index) {
   }
 }
 
-void ObjectTracker::checkStalePlaces(const ScanView& view) {
+void ObjectTracker::checkStalePlaces(const ScanView& view, double t, std::size_t scan_index) {
   const double margin = std::max(0.05, 2 * resolution_);
   for (auto& kv : tracks_) {
     Track& tr = kv.second;
     if (!tr.stale_of) continue;
     const PlaceView pv = viewOf(view, tr.shape.cx, tr.shape.cy, 0.5 * tr.shape.size, margin);
     tr.seen_occupied = pv == PlaceView::SeenOccupied ? tr.seen_occupied + 1 : 0;
-    // Seen occupied longer than D needs to fade a vacated cell: something is still there,
-    // and it is not the object that went elsewhere.
-    if (tr.seen_occupied > options_.confirm_scans + 4) {
-      tr.exclude_id = tr.stale_of;
+    // Seen occupied longer than D needs to fade a vacated cell: the object never left. If the
+    // detection taken for it is still under its id, that was another object: it gets an id
+    // of its own, and this one its id back.
+    if (tr.seen_occupied <= options_.confirm_scans + 4) continue;
+    const int id = tr.stale_of;
+    const auto took = tracks_.find(tr.moved_to);
+    if (took != tracks_.end() && took->second.id == id) {
+      const int other = newObject(t);
+      took->second.id = other;
+      TrackedObject& o2 = object(other);
+      o2.shape = took->second.shape;
+      o2.last_seen_t = object(id).last_seen_t;
+      o2.history.push_back({t, o2.shape.cx, o2.shape.cy});
+      emit(t, scan_index, o2, ObjectEvent::New);
+      TrackedObject& o = object(id);
+      o.n_moves = std::max(0, o.n_moves - 1);  // the move was not one
+      o.shape = tr.shape;
+      o.state = ObjectState::Present;
+      o.last_seen_t = t;
+      o.history.push_back({t, o.shape.cx, o.shape.cy});
+      tr.id = id;
       tr.stale_of = 0;
-      tr.passes = 0;
-      tr.best_cells = 0;
-      pending_.insert(kv.first);
+      tr.moved_to = 0;
+      tr.anchor_x = tr.shape.cx;
+      tr.anchor_y = tr.shape.cy;
+      emit(t, scan_index, o, ObjectEvent::Reappeared);
+      continue;
     }
+    tr.exclude_id = tr.stale_of;  // it has moved on since: this is a new object
+    tr.stale_of = 0;
+    tr.passes = 0;
+    tr.best_cells = 0;
+    pending_.insert(kv.first);
   }
 }
 
@@ -696,20 +816,32 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
     }
     pending_.insert(key);
     if (tr.passes == 0) tr.first_t = t;
-    // Count only scans that added no cell: an arriving object is judged once it is all there.
-    if (tr.cells.size() > tr.last_count) {
+    // Count only scans that left its size as it was: an object is judged once its size has
+    // settled (it is all there, and the robot has seen enough of it to tell its size).
+    const bool settled = std::abs(tr.shape.size - tr.last_size) <= options_.settle_size;
+    tr.last_size = tr.shape.size;
+    if (!settled) {
       tr.passes = 1;
     } else {
       ++tr.passes;
     }
-    tr.last_count = tr.cells.size();
-    if (tr.passes >= options_.confirm_scans && confirm(tr, view, t, scan_index)) {
+    if (tr.passes >= options_.confirm_scans && confirm(key, view, t, scan_index)) {
       pending_.erase(key);
     }
   }
 }
 
-bool ObjectTracker::confirm(Track& tr, const ScanView& view, double t, std::size_t scan_index) {
+int ObjectTracker::newObject(double t) {
+  TrackedObject o;
+  o.id = static_cast<int>(objects_.size()) + 1;
+  o.label = "object" + std::to_string(o.id);
+  o.first_seen_t = t;
+  objects_.push_back(o);
+  return o.id;
+}
+
+bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t scan_index) {
+  Track& tr = tracks_[key];
   const double margin = std::max(0.05, 2 * resolution_);
   std::vector<IdentityCandidate> cands;
   std::vector<int> ids;
@@ -729,12 +861,7 @@ bool ObjectTracker::confirm(Track& tr, const ScanView& view, double t, std::size
   ObjectEvent ev = ObjectEvent::New;
   int id = 0;
   if (pick < 0) {
-    id = static_cast<int>(objects_.size()) + 1;
-    TrackedObject o;
-    o.id = id;
-    o.label = "object" + std::to_string(id);
-    o.first_seen_t = t;
-    objects_.push_back(o);
+    id = newObject(t);
   } else {
     id = ids[static_cast<std::size_t>(pick)];
     TrackedObject& o = object(id);
@@ -749,6 +876,7 @@ bool ObjectTracker::confirm(Track& tr, const ScanView& view, double t, std::size
         Track& st = tracks_[old];
         st.id = 0;
         st.stale_of = id;
+        st.moved_to = key;
         st.seen_occupied = 0;
       }
       ev = ObjectEvent::Moved;
@@ -785,6 +913,35 @@ void ObjectTracker::checkDrift(double t, std::size_t scan_index) {
       o.history.push_back({t, o.shape.cx, o.shape.cy});
       emit(t, scan_index, o, ObjectEvent::Moved);
     }
+  }
+}
+
+void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& view) {
+  if (view.empty() || owner_.empty()) return;
+  const double bin = 0.01;  // [m] one point kept per bin: the latest
+  std::set<int> fed;
+  const std::size_t n = view.ranges.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = view.ranges[i];
+    if (r <= 0.0 || r >= view.max_range) continue;
+    const double a = view.phi + view.dir * (view.first + view.step * static_cast<double>(i));
+    const double x = view.x + r * std::cos(a), y = view.y + r * std::sin(a);
+    const int cx = map.x2idx(x), cy = map.y2idx(y);
+    if (cx < 0 || cy < 0 || cx >= static_cast<int>(map.getSizeX()) ||
+        cy >= static_cast<int>(map.getSizeY())) {
+      continue;
+    }
+    const CellKey cell = cellKey(cx + origin_x_, cy + origin_y_);
+    const auto it = owner_.find(cell);
+    if (it == owner_.end() || !cells_.count(cell)) continue;
+    const CellKey b =
+        cellKey(static_cast<int>(std::floor(x / bin)), static_cast<int>(std::floor(y / bin)));
+    tracks_[it->second].points[b] = {x, y, r * std::abs(view.step), cell};
+    fed.insert(it->second);
+  }
+  for (const int key : fed) {
+    refresh(tracks_[key], resolution_);
+    touched_.insert(key);  // a better size may now pass the filters
   }
 }
 
