@@ -140,6 +140,16 @@ void drawObjects(CImage& img, const DynamicGridMap& map, const View& view,
   img.selectTextFont(big ? "9x15B" : "6x13B");
   const int char_w = big ? 9 : 6, char_h = big ? 15 : 13;
   const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
+  struct Rect {
+    int x0, y0, x1, y1;
+    bool overlaps(const Rect& o) const {
+      return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1;
+    }
+  };
+  // Boxes first, then each label beside its box where it covers no other box and no label:
+  // above, below, then the same on the right edge, then further up.
+  std::vector<Rect> boxes;
+  std::vector<const TrackedObject*> shown;
   for (const TrackedObject& o : objects) {
     if (o.state != ObjectState::Present) continue;
     const ShapeEstimate& s = o.shape;
@@ -147,18 +157,43 @@ void drawObjects(CImage& img, const DynamicGridMap& map, const View& view,
     const Pixel p1 = toPixel(map, view, s.x_max, s.y_min);
     // At least a few pixels around the object, so that small ones stay visible.
     const int pad = std::max(2, scale / 2);
-    img.rectangle(p0.x - pad, p0.y - pad, p1.x + pad, p1.y + pad, box, 2);
+    boxes.push_back({p0.x - pad, p0.y - pad, p1.x + pad, p1.y + pad});
+    shown.push_back(&o);
+    img.rectangle(boxes.back().x0, boxes.back().y0, boxes.back().x1, boxes.back().y1, box, 2);
+  }
+  std::vector<Rect> labels;
+  for (std::size_t k = 0; k < shown.size(); ++k) {
+    const Rect& b = boxes[k];
     char buf[48];
-    std::snprintf(buf, sizeof buf, "%d: %.2f m", o.id, s.size);
+    std::snprintf(buf, sizeof buf, "%d: %.2f m", shown[k]->id, shown[k]->shape.size);
     const std::string label = buf;
     const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
-    int lx = p0.x - pad, ly = p0.y - pad - lh - 1;
-    if (ly < 0) ly = p1.y + pad + 2;  // no room above: below the box
-    lx = std::clamp(lx, 0, std::max(0, w - lw - 1));
-    ly = std::clamp(ly, 0, std::max(0, h - lh - 1));
-    img.filledRectangle(lx, ly, lx + lw, ly + lh, label_bg);
-    img.rectangle(lx, ly, lx + lw, ly + lh, box, 1);
-    img.textOut(lx + 2, ly + 1, label, text);
+    auto place = [&](int x, int y) {
+      x = std::clamp(x, 0, std::max(0, w - lw - 1));
+      y = std::clamp(y, 0, std::max(0, h - lh - 1));
+      return Rect{x, y, x + lw, y + lh};
+    };
+    std::vector<Rect> tries;
+    for (const int x : {b.x0, b.x1 - lw}) {
+      tries.push_back(place(x, b.y0 - lh - 1));  // above
+      tries.push_back(place(x, b.y1 + 2));       // below
+    }
+    for (int up = 2; up <= 4; ++up) tries.push_back(place(b.x0, b.y0 - up * (lh + 1)));
+    Rect at = tries.front();
+    for (const Rect& r : tries) {
+      bool clear = true;
+      for (const Rect& l : labels) clear = clear && !r.overlaps(l);
+      for (std::size_t j = 0; j < boxes.size(); ++j)
+        clear = clear && (j == k || !r.overlaps(boxes[j]));
+      if (clear) {
+        at = r;
+        break;
+      }
+    }
+    labels.push_back(at);
+    img.filledRectangle(at.x0, at.y0, at.x1, at.y1, label_bg);
+    img.rectangle(at.x0, at.y0, at.x1, at.y1, box, 1);
+    img.textOut(at.x0 + 2, at.y0 + 1, label, text);
   }
 }
 
