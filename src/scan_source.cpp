@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <fstream>
 #include <new>
@@ -39,6 +40,22 @@ void* operator new(std::size_t n) {
 }
 void* operator new[](std::size_t n) {
   return ::operator new(n);
+}
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  try {
+    return ::operator new(n);
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t n, const std::nothrow_t& tag) noexcept {
+  return ::operator new(n, tag);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
 }
 void operator delete(void* p) noexcept {
   std::free(p);
@@ -109,6 +126,14 @@ std::string toString(PoseSource source) {
 namespace {
 
 using mrpt::obs::CObservation2DRangeScan;
+
+/// MRPT copies a scan's rightToLeft byte from the file as it is: any byte but 0 or 1 is no valid
+/// bool (reading it is undefined behaviour). Makes it one.
+void normalizeFlags(CObservation2DRangeScan& scan) {
+  unsigned char raw = 0;
+  std::memcpy(&raw, &scan.rightToLeft, 1);
+  scan.rightToLeft = raw != 0;
+}
 
 /// Far above any real record's largest buffer (a laser scan of a million beams takes 4 MB).
 constexpr std::size_t kMaxRecordAllocation = std::size_t{256} << 20;
@@ -309,6 +334,7 @@ class RawlogSource : public ScanSource {
     if (!o) return;
     const double t = o->timestamp == INVALID_TIMESTAMP ? NAN : toSeconds(o->timestamp);
     if (auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o)) {
+      normalizeFlags(*scan);
       const std::size_t index = stats_.scans++;
       if (!std::isfinite(t)) {
         throw InputError(path_ + ": scan " + std::to_string(index) + " has no timestamp");
@@ -444,6 +470,7 @@ class SimplemapSource : public ScanSource {
         auto o = it_->sf->getObservationByIndex(obs_index_++);
         auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o);
         if (!scan) continue;
+        normalizeFlags(*scan);
         out.index = stats_.scans++;
         out.t = scan->timestamp == INVALID_TIMESTAMP ? 0.0 : toSeconds(scan->timestamp);
         out.pose = mrpt::poses::CPose2D(it_->pose->getMeanVal());

@@ -101,9 +101,9 @@ void expectPartialEqualsPrefix(const std::string& dir, const std::string& name,
   // The clean prefix maps to the same; it may end with a scan whose pose record was cut away,
   // which it names (the damaged log's fault takes precedence over that).
   std::string clean_out;
-  const int clean_status = map("--input " + dir + "/" + name + "-prefix.rawlog --out " + dir +
-                                   "/" + name + "-prefix",
-                               &clean_out);
+  const int clean_status =
+      map("--input " + dir + "/" + name + "-prefix.rawlog --out " + dir + "/" + name + "-prefix",
+          &clean_out);
   if (clean_status != 0) {
     EXPECT_EQ(clean_status, 4) << clean_out;
     EXPECT_NE(clean_out.find("has no ground_truth pose"), std::string::npos) << clean_out;
@@ -186,8 +186,8 @@ std::vector<test::LogStep> roomSteps(int n = 20) {
   for (int k = 0; k < n; ++k) {
     const double t = 1000.0 + 0.2 * k;
     const CPose2D pose(-1.0 + 0.1 * k, 0.2, 0.05 * k);
-    steps.push_back({t, pose,
-                     test::makeScan(test::roomRanges(-3, 3, -2, 2, pose, 61, M_PI), M_PI, t)});
+    steps.push_back(
+        {t, pose, test::makeScan(test::roomRanges(-3, 3, -2, 2, pose, 61, M_PI), M_PI, t)});
   }
   return steps;
 }
@@ -207,9 +207,9 @@ TEST(Faults, BadBeamsAndBadScansAreSkippedAndCountedByReason) {
   setBeams(steps[3], 0, 5, nan);
   setBeams(steps[5], 10, 3, inf);
   setBeams(steps[7], 20, 2, -1.0f);
-  steps[9].scan = test::makeScan({}, M_PI, steps[9].t);                   // zero beams
+  steps[9].scan = test::makeScan({}, M_PI, steps[9].t);                             // zero beams
   steps[11].scan = test::makeScan(std::vector<float>(61, 1.0f), 0.0, steps[11].t);  // aperture 0
-  setBeams(steps[13], 0, 61, nan);                                        // nothing usable
+  setBeams(steps[13], 0, 61, nan);  // nothing usable
   test::writeObsRawlog(dir + "/bad.rawlog", steps);
   // The same log without those three scans and with the bad beams' cells never seen.
   std::string out;
@@ -307,7 +307,8 @@ TEST(Faults, BadConfigurationIsAOneLineErrorNamingTheKeyWithItsOwnStatus) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"[dynamic_map]\nresolution = fine\n", "[dynamic_map] resolution: "},
       {"[dynamic_map]\nresolution = -0.05\n", "[dynamic_map] resolution: must be > 0"},
-      {"[dynamic_map]\nmax_map_size_m = 1e9\n", "[dynamic_map] max_map_size_m: 1e+09 must be within [1, 10000] m"},
+      {"[dynamic_map]\nmax_map_size_m = 1e9\n",
+       "[dynamic_map] max_map_size_m: 1e+09 must be within [1, 10000] m"},
       {"[dynamic_mapp]\nresolution = 0.05\n", "dynamic_mapp"},
       {"[input]\nposes = gps\n", "[input] poses: "},
   };
@@ -363,17 +364,18 @@ TEST(Faults, AForeignRecordWhereAScanWasExpectedIsSkippedAndCounted) {
   EXPECT_EQ(summaryNumber(summary, "record of class mrpt::poses::CPose2D"), 1) << summary;
   EXPECT_EQ(summaryNumber(summary, "read"), 19) << summary;
   EXPECT_EQ(summaryNumber(summary, "used"), 19) << summary;
-  EXPECT_NE(out.find("warning: 1 scans skipped: record of class mrpt::poses::CPose2D (1)"), std::string::npos)
+  EXPECT_NE(out.find("warning: 1 scans skipped: record of class mrpt::poses::CPose2D (1)"),
+            std::string::npos)
       << out;
 }
 
 // Every input the fuzzers once crashed on (or that guards a fixed fault), through the same entry
 // point: they must all return. Under `make test-asan` the sanitizers check them too.
 TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
-  const std::vector<std::pair<std::string, void (*)(const std::uint8_t*, std::size_t)>> targets =
-      {{"scenario", fuzz::scenarioInput},
-       {"carmen", fuzz::carmenInput},
-       {"rawlog", fuzz::rawlogInput}};
+  const std::vector<std::pair<std::string, void (*)(const std::uint8_t*, std::size_t)>> targets = {
+      {"scenario", fuzz::scenarioInput},
+      {"carmen", fuzz::carmenInput},
+      {"rawlog", fuzz::rawlogInput}};
   std::size_t files = 0;
   for (const auto& [name, entry] : targets) {
     const fs::path dir = fs::path(kSrc) / "tests/fuzz_regressions" / name;
