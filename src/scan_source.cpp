@@ -370,11 +370,12 @@ class RawlogSource : public ScanSource {
         throw InputError(path_ + ": scan " + std::to_string(p.index) +
                          " (t=" + std::to_string(p.t) + ") has no " + toString(source_) + " pose");
       }
-      ready_.push_back({p.index, p.t, pose, std::move(p.scan)});
-      pending_.pop_front();
+      const double t = p.t;
+      ready_.push_back({p.index, t, pose, std::move(p.scan)});
+      pending_.pop_front();  // p is gone from here on
       // Poses from a little before it stay: a later scan stamped earlier (a clock stepping back)
       // still finds its pose.
-      poses_.forgetBefore(p.t - kPoseHistory_s);
+      poses_.forgetBefore(t - kPoseHistory_s);
     }
   }
 
