@@ -91,8 +91,8 @@ eval: build
 	done
 	@$(DYNAMAP) eval --summary $(addprefix out/,$(EVAL_SCENARIOS))
 
-# The whole suite under ASan + UBSan. MRPT is not instrumented: .ci/lsan.supp silences the
-# leaks LeakSanitizer reports inside MRPT's own start-up registries, nothing of ours.
+# The whole suite under ASan + UBSan. MRPT is not instrumented: .ci/lsan.supp is where leaks
+# inside MRPT's own libraries would be suppressed (never ours).
 ASAN_DIR ?= build-asan
 SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=0 \
   LSAN_OPTIONS=suppressions=$(CURDIR)/.ci/lsan.supp:print_suppressions=0 \
