@@ -135,10 +135,11 @@ int main(int argc, char** argv) {
   }
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   const auto& m = mapper.map();
-  std::printf("world %.0f x %.0f m (scale %g), %zu scans, %zu used, map %u x %u cells, %zu objects, "
-              "%zu events\n",
-              12 * scale, 8 * scale, scale, total, mapper.counts().scans_used, m.getSizeX(),
-              m.getSizeY(), mapper.tracker().objects().size(), mapper.tracker().events().size());
+  std::printf(
+      "world %.0f x %.0f m (scale %g), %zu scans, %zu used, map %u x %u cells, %zu objects, "
+      "%zu events\n",
+      12 * scale, 8 * scale, scale, total, mapper.counts().scans_used, m.getSizeX(), m.getSizeY(),
+      mapper.tracker().objects().size(), mapper.tracker().events().size());
   std::printf("peak RSS %.1f MiB (%.1f MiB after the first tenth)\n", peakRssMiB(),
               rss_after_first_tenth);
   std::printf("mapper scans/s: first tenth %.0f, last tenth %.0f (ratio last/first %.2f)\n",
