@@ -9,6 +9,12 @@
 #   make scenarios  regenerate every bundled rawlog and its ground truth from config/scenarios/
 #   make eval    map every bundled scenario and score it against its ground truth beside the
 #                paper's Table 3 (docs/evaluation.md)
+#   make test-asan  build into build-asan/ with AddressSanitizer + UndefinedBehaviorSanitizer and
+#                run every test there
+#   make fuzz    install clang, build the libFuzzer targets into build-fuzz/ and run each for
+#                FUZZ_SECONDS (60) seconds; new crashing inputs are left in build-fuzz/crashes/
+#   make bench-long  memory and speed of one run over 100,000+ simulated scans, then the same
+#                in a world of four times the area
 
 # Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
 # keep the install well below the whole libmrpt-dev metapackage.
@@ -29,7 +35,8 @@ DATASETS ?= ../shared/datasets
 FREIBURG := $(DATASETS)/carmen/freiburg-079-corrected.log.gz
 BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corridors.rawlog)
 
-.PHONY: all deps configure build test demo bench format clean scenarios eval
+.PHONY: all deps configure build test demo bench format clean scenarios eval test-asan fuzz \
+  fuzz-deps bench-long
 
 all: build
 
@@ -84,8 +91,63 @@ eval: build
 	done
 	@$(DYNAMAP) eval --summary $(addprefix out/,$(EVAL_SCENARIOS))
 
+# The whole suite under ASan + UBSan. MRPT is not instrumented: .ci/lsan.supp is where leaks
+# inside MRPT's own libraries would be suppressed (never ours).
+ASAN_DIR ?= build-asan
+SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=0 \
+  LSAN_OPTIONS=suppressions=$(CURDIR)/.ci/lsan.supp:print_suppressions=0 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+test-asan: deps
+	cmake -S . -B $(ASAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDYNAMAP_SANITIZE=ON \
+	  -DDYNAMAP_BUILD_BENCH=OFF
+	cmake --build $(ASAN_DIR) -j $(JOBS)
+	cd $(ASAN_DIR) && $(SANITIZER_ENV) ctest --output-on-failure -j $(JOBS)
+
+# libFuzzer targets (clang only; `make test` never needs clang). Each runs FUZZ_SECONDS from a
+# corpus in build-fuzz/corpus/<target>/ seeded with fuzz/seeds/<target>/ and keeps growing it
+# between runs. Run longer with FUZZ_SECONDS=3600 make fuzz, or one target directly:
+#   build-fuzz/fuzz_rawlog -max_total_time=3600 build-fuzz/corpus/rawlog fuzz/seeds/rawlog
+# A crash leaves its input in build-fuzz/crashes/; fix it, then keep the input in
+# tests/fuzz_regressions/<target>/ (faults_test replays every file there).
+FUZZ_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := scenario carmen rawlog
+FUZZ_PACKAGES := clang libclang-rt-14-dev
+fuzz-deps: deps
+	@missing=""; \
+	for p in $(FUZZ_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "dynamap: installing Debian packages:$$missing"; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+fuzz: fuzz-deps
+	cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+	  -DDYNAMAP_FUZZ=ON -DDYNAMAP_BUILD_TESTS=OFF -DDYNAMAP_BUILD_BENCH=OFF
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+	@for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/crashes/$$t; \
+	  echo "dynamap: fuzzing $$t for $(FUZZ_SECONDS) s"; \
+	  $(SANITIZER_ENV) $(FUZZ_DIR)/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -max_len=16384 \
+	    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+	    -artifact_prefix=$(FUZZ_DIR)/crashes/$$t/ $(FUZZ_DIR)/corpus/$$t fuzz/seeds/$$t \
+	    2> $(FUZZ_DIR)/fuzz_$$t.log || { tail -40 $(FUZZ_DIR)/fuzz_$$t.log; exit 1; }; \
+	  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" $(FUZZ_DIR)/fuzz_$$t.log; \
+	done
+
+# One run of 100,000+ simulated scans through the same Mapper as `dynamap map` (objects on),
+# in a world and in one of four times its area; each in its own process, so each peak RSS is its
+# own.
+BENCH_LONG_SCANS ?= 100000
+bench-long: build
+	$(BUILD_DIR)/dynamap_bench_long --scans $(BENCH_LONG_SCANS) --scale 1
+	$(BUILD_DIR)/dynamap_bench_long --scans $(BENCH_LONG_SCANS) --scale 2
+
 format:
 	clang-format -i $$(git ls-files '*.h' '*.cpp')
 
 clean:
-	rm -rf $(BUILD_DIR) out
+	rm -rf $(BUILD_DIR) $(ASAN_DIR) $(FUZZ_DIR) out

@@ -195,8 +195,10 @@ bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
   last_stats_.skip_reason = "not horizontal";
   if (!scan.isPlanarScan(tolerance)) return false;
   const std::size_t n = scan.getScanSize();
-  last_stats_.skip_reason = "no usable beam";
-  if (n == 0 || !(scan.aperture > 0.0f) || !std::isfinite(scan.aperture)) return false;
+  last_stats_.skip_reason = "no beams";
+  if (n == 0) return false;
+  last_stats_.skip_reason = "aperture not positive";
+  if (!(scan.aperture > 0.0f) || !std::isfinite(scan.aperture)) return false;
   last_stats_.skip_reason = "pose not finite";
   for (double v : {robot_pose.x(), robot_pose.y(), robot_pose.yaw()}) {
     if (!std::isfinite(v)) return false;

@@ -1,5 +1,6 @@
 #include "dynamap/scan_source.h"
 
+#include <mrpt/core/aligned_allocator.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -11,13 +12,75 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <fstream>
+#include <new>
 #include <sstream>
 
 #include "dynamap/carmen_reader.h"
 #include "dynamap/config_check.h"
 #include "dynamap/pose_track.h"
+
+// --- a bound on what one record may make MRPT allocate ------------------------------------------
+// MRPT's deserializers trust the sizes a file states: a scan "of 2^31 beams" is resized, and zero
+// filled, before its data are read. While a record is read (RecordAllocationLimit in scope), no
+// single allocation may exceed kMaxRecordAllocation: operator new throws std::bad_alloc instead,
+// and the record is reported as corrupt. Everywhere else allocation is as usual. These are the
+// program's replacements of the global operator new and delete (malloc and free underneath).
+namespace {
+thread_local std::size_t t_allocation_limit = 0;  // 0: no limit
+}  // namespace
+
+void* operator new(std::size_t n) {
+  if (t_allocation_limit != 0 && n > t_allocation_limit) throw std::bad_alloc();
+  if (void* p = std::malloc(n != 0 ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) {
+  return ::operator new(n);
+}
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  try {
+    return ::operator new(n);
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t n, const std::nothrow_t& tag) noexcept {
+  return ::operator new(n, tag);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+namespace mrpt {
+// MRPT's scans keep their beams in vectors of mrpt::aligned_allocator_cpp11, which allocate
+// through this libmrpt-core function rather than operator new; this definition takes its place
+// (same behaviour: C++17 aligned_alloc, released by mrpt::aligned_free's free()) and applies the
+// record limit. Its callers do not check for null: a refusal throws.
+void* aligned_malloc(std::size_t size, std::size_t alignment) {
+  if (t_allocation_limit != 0 && size > t_allocation_limit) throw std::bad_alloc();
+  if (alignment != 0 && size % alignment != 0) size = (size / alignment + 1) * alignment;
+  return ::aligned_alloc(alignment, size);
+}
+}  // namespace mrpt
 
 namespace dynamap {
 
@@ -63,6 +126,37 @@ std::string toString(PoseSource source) {
 namespace {
 
 using mrpt::obs::CObservation2DRangeScan;
+
+/// MRPT copies a scan's rightToLeft byte from the file as it is: any byte but 0 or 1 is no valid
+/// bool (reading it is undefined behaviour). Makes it one.
+void normalizeFlags(CObservation2DRangeScan& scan) {
+  unsigned char raw = 0;
+  std::memcpy(&raw, &scan.rightToLeft, 1);
+  scan.rightToLeft = raw != 0;
+}
+
+/// Far above any real record's largest buffer (a laser scan of a million beams takes 4 MB).
+constexpr std::size_t kMaxRecordAllocation = std::size_t{256} << 20;
+
+/// Bounds single allocations while a record is deserialized (see operator new above).
+class RecordAllocationLimit {
+ public:
+  RecordAllocationLimit() : saved_(t_allocation_limit) {
+    t_allocation_limit = kMaxRecordAllocation;
+  }
+  ~RecordAllocationLimit() { t_allocation_limit = saved_; }
+  RecordAllocationLimit(const RecordAllocationLimit&) = delete;
+  RecordAllocationLimit& operator=(const RecordAllocationLimit&) = delete;
+
+ private:
+  std::size_t saved_;
+};
+
+/// Reads one top-level object; a size in it beyond any real record throws std::bad_alloc.
+mrpt::serialization::CSerializable::Ptr readBoundedObject(mrpt::io::CStream& in) {
+  const RecordAllocationLimit limit;
+  return mrpt::serialization::archiveFrom(in).ReadObject();
+}
 
 std::string stripRawlogExtension(std::string p) {
   for (const char* ext : {".gz", ".rawlog"}) {
@@ -173,7 +267,7 @@ class RawlogSource : public ScanSource {
     const uint64_t start = in_.getPosition();
     mrpt::serialization::CSerializable::Ptr obj;
     try {
-      obj = mrpt::serialization::archiveFrom(in_).ReadObject();
+      obj = readBoundedObject(in_);
     } catch (const mrpt::serialization::CExceptionEOF&) {
       eof_ = true;
       if (in_.getPosition() != start) {
@@ -182,9 +276,18 @@ class RawlogSource : public ScanSource {
       }
       return;
     } catch (const std::exception& e) {
+      // MRPT reports a record cut short as an error reading it, not as CExceptionEOF.
       eof_ = true;
-      fault_ = "record " + std::to_string(stats_.records) + " at byte " + std::to_string(start) +
-               " is corrupt: " + firstLine(e.what());
+      const std::string msg = innermostMessage(e.what());
+      const std::string where =
+          "record " + std::to_string(stats_.records) + " at byte " + std::to_string(start);
+      if (msg.find("(EOF?)") != std::string::npos || in_.checkEOF()) {
+        fault_ = where + " is cut off (truncated file)";
+      } else if (msg.find("bad_alloc") != std::string::npos) {
+        fault_ = where + " is corrupt: it states a size no real record has";
+      } else {
+        fault_ = where + " is corrupt: " + msg;
+      }
       return;
     }
     ++stats_.records;
@@ -208,7 +311,17 @@ class RawlogSource : public ScanSource {
     }
   }
 
-  static std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
+  /// MRPT's exceptions nest reports with call stacks; the innermost "Message:" says what failed.
+  static std::string innermostMessage(const std::string& what) {
+    std::string msg;
+    for (std::size_t pos = what.find("Message:"); pos != std::string::npos;
+         pos = what.find("Message:", pos + 1)) {
+      msg = what.substr(pos + 8, what.find('\n', pos) - pos - 8);
+    }
+    if (msg.empty()) msg = what.substr(0, what.find('\n'));
+    const auto first = msg.find_first_not_of(' ');
+    return first == std::string::npos ? std::string() : msg.substr(first);
+  }
 
   static double frameTime(const mrpt::obs::CSensoryFrame& sf) {
     for (const auto& o : sf) {
@@ -221,6 +334,7 @@ class RawlogSource : public ScanSource {
     if (!o) return;
     const double t = o->timestamp == INVALID_TIMESTAMP ? NAN : toSeconds(o->timestamp);
     if (auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o)) {
+      normalizeFlags(*scan);
       const std::size_t index = stats_.scans++;
       if (!std::isfinite(t)) {
         throw InputError(path_ + ": scan " + std::to_string(index) + " has no timestamp");
@@ -256,9 +370,12 @@ class RawlogSource : public ScanSource {
         throw InputError(path_ + ": scan " + std::to_string(p.index) +
                          " (t=" + std::to_string(p.t) + ") has no " + toString(source_) + " pose");
       }
-      ready_.push_back({p.index, p.t, pose, std::move(p.scan)});
-      pending_.pop_front();
-      poses_.forgetBefore(p.t);
+      const double t = p.t;
+      ready_.push_back({p.index, t, pose, std::move(p.scan)});
+      pending_.pop_front();  // p is gone from here on
+      // Poses from a little before it stay: a later scan stamped earlier (a clock stepping back)
+      // still finds its pose.
+      poses_.forgetBefore(t - kPoseHistory_s);
     }
   }
 
@@ -278,6 +395,7 @@ class RawlogSource : public ScanSource {
   }
 
   static constexpr std::size_t kMaxPending = 10000;
+  static constexpr double kPoseHistory_s = 10.0;
 
   std::string path_;
   PoseSource source_;
@@ -312,7 +430,7 @@ RawlogPeek peekRawlog(const std::string& path) {
   for (int i = 0; i < 300; ++i) {
     mrpt::serialization::CSerializable::Ptr obj;
     try {
-      obj = mrpt::serialization::archiveFrom(in).ReadObject();
+      obj = readBoundedObject(in);
     } catch (const std::exception&) {
       break;  // faults are reported by the real pass, at their record
     }
@@ -335,7 +453,14 @@ bool RawlogSource::hasGroundTruthInLog(const std::string& path) {
 class SimplemapSource : public ScanSource {
  public:
   explicit SimplemapSource(const std::string& path) : path_(path) {
-    if (!map_.loadFromFile(path)) throw InputError(path + ": cannot read simplemap");
+    bool loaded = false;
+    try {
+      const RecordAllocationLimit limit;
+      loaded = map_.loadFromFile(path);
+    } catch (const std::exception& e) {
+      throw InputError(path + ": cannot read simplemap: " + std::string(e.what()).substr(0, 200));
+    }
+    if (!loaded) throw InputError(path + ": cannot read simplemap");
     stats_.records = map_.size();
     it_ = map_.begin();
   }
@@ -346,6 +471,7 @@ class SimplemapSource : public ScanSource {
         auto o = it_->sf->getObservationByIndex(obs_index_++);
         auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o);
         if (!scan) continue;
+        normalizeFlags(*scan);
         out.index = stats_.scans++;
         out.t = scan->timestamp == INVALID_TIMESTAMP ? 0.0 : toSeconds(scan->timestamp);
         out.pose = mrpt::poses::CPose2D(it_->pose->getMeanVal());

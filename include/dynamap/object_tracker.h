@@ -91,7 +91,9 @@ struct CellXY {
 };
 using CellKey = std::int64_t;
 inline CellKey cellKey(int x, int y) {
-  return (static_cast<std::int64_t>(x) << 32) ^ static_cast<std::uint32_t>(y);
+  // Shifted as unsigned: a negative x shifted left is undefined behaviour before C++20.
+  return static_cast<CellKey>((static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) ^
+                              static_cast<std::uint32_t>(y));
 }
 inline CellXY cellOf(CellKey k) {
   return {static_cast<int>(k >> 32), static_cast<int>(static_cast<std::uint32_t>(k & 0xffffffff))};

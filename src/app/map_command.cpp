@@ -55,6 +55,29 @@ void writeTimelapse(const std::string& out_dir, const std::string& frames_dir) {
   }
 }
 
+// One line for the scans skipped (by reason, as in summary.json), one for timestamps that went
+// backwards.
+void warnAboutSkips(const RunCounts& counts, const SourceStats& stats, std::size_t backwards,
+                    std::size_t first_backwards) {
+  auto reasons = counts.scans_skipped;
+  for (const auto& kv : stats.skipped) reasons[kv.first] += kv.second;
+  std::size_t total = 0;
+  std::string list;
+  for (const auto& kv : reasons) {
+    total += kv.second;
+    list += (list.empty() ? "" : ", ") + kv.first + " (" + std::to_string(kv.second) + ")";
+  }
+  if (total > 0) {
+    std::cerr << "dynamap map: warning: " << total << " scans skipped: " << list
+              << " (see summary.json)\n";
+  }
+  if (backwards > 0) {
+    std::cerr << "dynamap map: warning: " << backwards
+              << " scans have a timestamp earlier than the scan before them (first: scan "
+              << first_backwards << ")\n";
+  }
+}
+
 }  // namespace
 
 int runMap(const Args& args) {
@@ -121,8 +144,16 @@ int runMap(const Args& args) {
   const std::string frames_dir = out_dir + "/frames";
   if (frames_every > 0) prepareOutputDir(frames_dir);
 
+  // Scans stamped earlier than the one before them: counted in summary.json, warned about here.
+  std::size_t backwards = 0, first_backwards = 0;
+  bool have_t = false;
+  double last_t = 0;
+
   const auto start = std::chrono::steady_clock::now();
   const InputOutcome outcome = runMapping(*source, mapper, [&](const ScanRecord& rec) {
+    if (have_t && rec.t < last_t && backwards++ == 0) first_backwards = rec.index;
+    have_t = true;
+    last_t = rec.t;
     if (baseline) {  // timed on its own, so both runs' speeds can be reported
       const auto t0 = std::chrono::steady_clock::now();
       baseline->insert(rec);
@@ -156,6 +187,7 @@ int runMap(const Args& args) {
                 << cmp.static_occupied_plain_not << " cells S holds occupied it does not\n";
     }
   }
+  warnAboutSkips(mapper.counts(), source->stats(), backwards, first_backwards);
   if (!outcome.fault.empty()) {
     std::cerr << "dynamap map: warning: input ended in a fault, outputs cover the scans before "
                  "it: "

@@ -1,0 +1,87 @@
+#include "fuzz_entries.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+
+#include "dynamap/carmen_reader.h"
+#include "dynamap/config_check.h"
+#include "dynamap/mapping_run.h"
+#include "dynamap/scan_source.h"
+#include "dynamap/sim/scenario.h"
+
+namespace dynamap::fuzz {
+namespace {
+
+/// The readers open files by name: one scratch file per process, rewritten for every input.
+const std::string& scratchPath(const char* suffix) {
+  static const std::string dir = [] {
+    const char* tmp = std::getenv("TMPDIR");
+    std::string t = std::string(tmp && *tmp ? tmp : "/tmp") + "/dynamap-fuzz-XXXXXX";
+    if (!mkdtemp(t.data())) std::abort();
+    return t;
+  }();
+  static std::string path;
+  path = dir + "/input" + suffix;
+  return path;
+}
+
+std::string writeScratch(const std::uint8_t* data, std::size_t size, const char* suffix) {
+  const std::string path = scratchPath(suffix);
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) std::abort();
+  if (size > 0 && std::fwrite(data, 1, size, f) != size) std::abort();
+  std::fclose(f);
+  return path;
+}
+
+void drain(ScanSource& source, Mapper* mapper) {
+  ScanRecord rec;
+  while (source.next(rec)) {
+    if (mapper) mapper->process(rec);
+  }
+}
+
+}  // namespace
+
+void scenarioInput(const std::uint8_t* data, std::size_t size) {
+  try {
+    const IniFile ini =
+        IniFile::fromText(std::string(reinterpret_cast<const char*>(data), size), "fuzz.ini");
+    sim::parseScenario(ini, "/nonexistent-dir");
+  } catch (const std::exception&) {
+    // a bad scenario is reported, never a crash
+  }
+}
+
+void carmenInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = writeScratch(data, size, ".log");
+  for (const bool skip_bad_lines : {false, true}) {
+    try {
+      CarmenOptions options;
+      options.skip_bad_lines = skip_bad_lines;
+      auto source = openCarmenSource(path, PoseSource::Auto, options);
+      drain(*source, nullptr);
+    } catch (const std::exception&) {
+    }
+  }
+}
+
+void rawlogInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = writeScratch(data, size, ".rawlog");
+  // A small map limit keeps every input's memory and time small; objects on, as `map` runs.
+  MapConfig config;
+  config.map.resolution = 0.1;
+  config.map.max_map_size_m = 40;
+  try {
+    auto source = openScanSource(path, PoseSource::Auto);
+    Mapper mapper(config);
+    drain(*source, &mapper);
+  } catch (const std::exception&) {
+  }
+}
+
+}  // namespace dynamap::fuzz
