@@ -144,7 +144,7 @@ bool fitCircle(const std::vector<double>& xs, const std::vector<double>& ys, Cir
     Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < n; ++i) {
       const double dx = xs[i] - mx - a, dy = ys[i] - my - b;
-      const double d = std::max(1e-12, std::hypot(dx, dy));
+      const double d = std::max(1e-12, std::sqrt(dx * dx + dy * dy));
       const Eigen::Vector3d j(-dx / d, -dy / d, -1.0);
       jtj += j * j.transpose();
       jtr += j * (d - r);
@@ -187,6 +187,33 @@ double minorAxisStd(const std::vector<double>& xs, const std::vector<double>& ys
 }
 
 // Moves `c` (from a free fit) to the centre that best puts the points at distance r from it.
+/// Indices of the convex hull's corners of the first n points (Andrew's monotone chain), in
+/// order; all points when fewer than 3.
+std::vector<std::size_t> convexHull(const std::vector<double>& xs, const std::vector<double>& ys,
+                                    std::size_t n) {
+  std::vector<std::size_t> idx(n);
+  for (std::size_t i = 0; i < n; ++i) idx[i] = i;
+  if (n < 3) return idx;
+  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+    return xs[a] < xs[b] || (xs[a] == xs[b] && ys[a] < ys[b]);
+  });
+  auto cross = [&](std::size_t o, std::size_t a, std::size_t b) {
+    return (xs[a] - xs[o]) * (ys[b] - ys[o]) - (ys[a] - ys[o]) * (xs[b] - xs[o]);
+  };
+  std::vector<std::size_t> hull(2 * n);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < n; ++i) {  // lower chain
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
+    hull[k++] = idx[i];
+  }
+  for (std::size_t i = n - 1, t = k + 1; i-- > 0;) {  // upper chain
+    while (k >= t && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
+    hull[k++] = idx[i];
+  }
+  hull.resize(k > 1 ? k - 1 : k);
+  return hull;
+}
+
 void fitCentre(const std::vector<double>& xs, const std::vector<double>& ys, double r, Circle& c) {
   double a = c.cx, b = c.cy;
   for (int it = 0; it < 15; ++it) {
@@ -194,7 +221,7 @@ void fitCentre(const std::vector<double>& xs, const std::vector<double>& ys, dou
     Eigen::Vector2d jtr = Eigen::Vector2d::Zero();
     for (std::size_t i = 0; i < xs.size(); ++i) {
       const double dx = xs[i] - a, dy = ys[i] - b;
-      const double d = std::max(1e-12, std::hypot(dx, dy));
+      const double d = std::max(1e-12, std::sqrt(dx * dx + dy * dy));
       const Eigen::Vector2d j(-dx / d, -dy / d);
       jtj += j * j.transpose();
       jtr += j * (d - r);
@@ -338,10 +365,13 @@ bool estimatePointShape(const std::vector<double>& xs, const std::vector<double>
   }
   mx /= static_cast<double>(n);
   my /= static_cast<double>(n);
-  double width2 = 0;  // the widest chord: the visible outline of a convex object
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = i + 1; j < n; ++j) {
-      const double dx = xs[i] - xs[j], dy = ys[i] - ys[j];
+  // The widest chord (the visible outline of a convex object) joins two corners of the points'
+  // convex hull: O(n log n) for the hull, then pairs of its few corners.
+  const std::vector<std::size_t> hull = convexHull(xs, ys, n);
+  double width2 = 0;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    for (std::size_t j = i + 1; j < hull.size(); ++j) {
+      const double dx = xs[hull[i]] - xs[hull[j]], dy = ys[hull[i]] - ys[hull[j]];
       width2 = std::max(width2, dx * dx + dy * dy);
     }
   }
@@ -355,7 +385,8 @@ bool estimatePointShape(const std::vector<double>& xs, const std::vector<double>
     const double d = 2 * c.r;
     double rss = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      const double e = std::hypot(xs[i] - c.cx, ys[i] - c.cy) - c.r;
+      const double ex = xs[i] - c.cx, ey = ys[i] - c.cy;
+      const double e = std::sqrt(ex * ex + ey * ey) - c.r;
       rss += e * e;
     }
     const double rms = std::sqrt(rss / static_cast<double>(n));
@@ -682,6 +713,10 @@ void ObjectTracker::recluster(const DynamicGridMap& map, const std::vector<CellK
   }
 }
 
+namespace {
+constexpr std::size_t kFitPoints = 200;  // points a shape is fitted to, at most
+}  // namespace
+
 void ObjectTracker::refresh(Track& tr, double res) {
   if (tr.cells.empty()) return;
   std::vector<CellXY> xy;
@@ -689,17 +724,23 @@ void ObjectTracker::refresh(Track& tr, double res) {
   for (const CellKey k : tr.cells) xy.push_back(cellOf(k));
   ShapeEstimate s = estimateShape(xy, res, options_);
   // The hit points in its cells, when there are enough, measure it to the centimetre.
+  for (auto it = tr.points.begin(); it != tr.points.end();) {
+    if (std::binary_search(tr.cells.begin(), tr.cells.end(), it->second.cell)) {
+      ++it;
+    } else {
+      it = tr.points.erase(it);  // its cell left the object: a point of the past
+    }
+  }
+  // At most kFitPoints, evenly through the bins, keep the fit's cost bounded.
+  const std::size_t stride = tr.points.size() / kFitPoints + 1;
   std::vector<double> px, py;
   double gap = std::numeric_limits<double>::infinity();  // the nearest view's beam spacing
-  for (auto it = tr.points.begin(); it != tr.points.end();) {
-    if (!std::binary_search(tr.cells.begin(), tr.cells.end(), it->second.cell)) {
-      it = tr.points.erase(it);  // its cell left the object: a point of the past
-      continue;
-    }
-    px.push_back(it->second.x);
-    py.push_back(it->second.y);
-    gap = std::min(gap, it->second.gap);
-    ++it;
+  std::size_t i = 0;
+  for (const auto& kv : tr.points) {
+    gap = std::min(gap, kv.second.gap);
+    if (i++ % stride != 0) continue;
+    px.push_back(kv.second.x);
+    py.push_back(kv.second.y);
   }
   ShapeEstimate fine;
   if (estimatePointShape(px, py, gap, sensor_x_, sensor_y_, options_, fine)) {
@@ -936,8 +977,10 @@ void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& vie
     if (it == owner_.end() || !cells_.count(cell)) continue;
     const CellKey b =
         cellKey(static_cast<int>(std::floor(x / bin)), static_cast<int>(std::floor(y / bin)));
-    tracks_[it->second].points[b] = {x, y, r * std::abs(view.step), cell};
-    fed.insert(it->second);
+    auto& points = tracks_[it->second].points;
+    const bool fresh = points.find(b) == points.end();
+    points[b] = {x, y, r * std::abs(view.step), cell};
+    if (fresh) fed.insert(it->second);  // a point where none was: the arc grew
   }
   for (const int key : fed) {
     refresh(tracks_[key], resolution_);
