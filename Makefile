@@ -14,7 +14,7 @@
 # keep the install well below the whole libmrpt-dev metapackage.
 DEB_PACKAGES := cmake g++ make \
   libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
-  libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev \
+  libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
   libeigen3-dev libboost-program-options-dev libgtest-dev
 
 BUILD_DIR ?= build
@@ -65,7 +65,7 @@ bench: build
 
 # Each config/scenarios/<name>.ini writes rawlogs/<name>/<name>.{rawlog,gt.txt,objects.csv,
 # moves.csv,world.png}; the SimBundled tests fail when the committed files are stale.
-SCENARIOS := arena corridors people tiny
+SCENARIOS := arena corridors corridors_odom people tiny
 scenarios: build
 	@for s in $(SCENARIOS); do \
 	  $(DYNAMAP) simulate --scenario config/scenarios/$$s.ini --out rawlogs/$$s || exit 1; \

@@ -42,8 +42,9 @@ PoseSource parsePoseSource(const std::string& name) {
   if (name == "simplemap") return PoseSource::Simplemap;
   if (name == "ground_truth") return PoseSource::GroundTruth;
   if (name == "odometry") return PoseSource::Odometry;
+  if (name == "scan_matching") return PoseSource::ScanMatching;
   throw std::invalid_argument("unknown pose source '" + name +
-                              "' (auto, simplemap, ground_truth, odometry)");
+                              "' (auto, simplemap, ground_truth, odometry, scan_matching)");
 }
 
 std::string toString(PoseSource source) {
@@ -56,6 +57,8 @@ std::string toString(PoseSource source) {
       return "ground_truth";
     case PoseSource::Odometry:
       return "odometry";
+    case PoseSource::ScanMatching:
+      return "scan_matching";
   }
   return "?";
 }
@@ -378,6 +381,7 @@ class SimplemapSource : public ScanSource {
 std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource source,
                                            const CarmenOptions* carmen) {
   if (!fileExists(path)) throw InputError(path + ": no such file");
+  if (source == PoseSource::ScanMatching) source = PoseSource::Odometry;  // corrected by Mapper
   if (looksLikeCarmen(path))
     return openCarmenSource(path, source, carmen ? *carmen : CarmenOptions{});
   const std::string head = fileHead(path, 256);
