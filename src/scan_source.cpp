@@ -193,16 +193,16 @@ class RawlogSource : public ScanSource {
     ++stats_.records;
     if (!obj) return;
     if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
-      if (odometry_from_actions_) {
-        // The odometry integrated so far is the pose of this frame's observations.
+      for (const auto& o : *sf) take(o);
+      if (!odometry_observed_) {
+        // Action / sensory-frame format: the odometry integrated so far (the origin before the
+        // first action) is the pose of this frame's observations.
         const double t = frameTime(*sf);
         if (std::isfinite(t) && source_ == PoseSource::Odometry) poses_.add(t, odometry_);
       }
-      for (const auto& o : *sf) take(o);
     } else if (auto acts = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
       if (auto mv = acts->getBestMovementEstimation()) {
         odometry_ = odometry_ + mv->poseChange->getMeanVal();
-        odometry_from_actions_ = true;
       }
     } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
       take(o);
@@ -235,6 +235,7 @@ class RawlogSource : public ScanSource {
                          " scans after it");
       }
     } else if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
+      odometry_observed_ = true;
       if (source_ == PoseSource::Odometry && std::isfinite(t)) poses_.add(t, odo->odometry);
     } else if (auto gt = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o)) {
       if (source_ == PoseSource::GroundTruth && !poses_from_file_ && std::isfinite(t)) {
@@ -290,7 +291,7 @@ class RawlogSource : public ScanSource {
   PoseTrack poses_;
   bool poses_from_file_ = false;
   mrpt::poses::CPose2D odometry_;
-  bool odometry_from_actions_ = false;
+  bool odometry_observed_ = false;  // CObservationOdometry seen: frames carry no pose of their own
   std::deque<Pending> pending_;
   std::deque<ScanRecord> ready_;
   bool eof_ = false;
