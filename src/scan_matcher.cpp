@@ -34,8 +34,8 @@ const char* const kKeys[] = {"occupied_threshold",
                              "min_constraint"};
 
 constexpr double kDegToRad = M_PI / 180.0;
-constexpr int kNormalRadius = 3;  // [cells] a wall's normal comes from a 7x7 neighbourhood
-constexpr int kNormalMinCells = 4;             // ... of at least this many occupied cells
+constexpr int kNormalRadius = 3;    // [cells] a wall's normal comes from a 7x7 neighbourhood
+constexpr int kNormalMinCells = 4;  // ... of at least this many occupied cells
 constexpr double kNormalMaxSpreadRatio = 0.2;  // ... spread across at most this along
 
 /// The scan's valid beam end points in the robot's frame, cut at `max_range`.

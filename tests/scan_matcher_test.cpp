@@ -77,8 +77,8 @@ void expectRecovered(double resolution, double tolerance_m) {
   const CPose2D truth(0.3, -0.2, 0.15);
   const auto scan = scanFrom(world, truth);
   // Offsets up to overlap_distance_m (0.1 m) from every wall; turns up to 3 degrees.
-  for (const CPose2D& offset : {CPose2D(0.07, -0.05, 2 * kDeg), CPose2D(-0.06, 0.05, -3 * kDeg),
-                                CPose2D(0.0, 0.08, 0.0)}) {
+  for (const CPose2D& offset :
+       {CPose2D(0.07, -0.05, 2 * kDeg), CPose2D(-0.06, 0.05, -3 * kDeg), CPose2D(0.0, 0.08, 0.0)}) {
     SCOPED_TRACE(offset.asString());
     const CPose2D guess = truth + offset;
     const ScanMatchResult r = matcher.match(map, *scan, guess);
@@ -195,10 +195,10 @@ TEST(ScanMatchOptions, BadValuesAreErrorsNamingTheKey) {
     return o;
   };
   EXPECT_EQ(load("max_correction_m = 0.5\n").max_correction_m, 0.5);
-  for (const char* bad : {"occupied_threshold = 0.5\n", "min_inlier_ratio = 1.5\n",
-                          "max_correction_deg = 0\n", "icp_max_iterations = 0\n",
-                          "icp_smallest_threshold_dist_m = 0.9\n", "min_constraint = -1\n",
-                          "overlap_distance_m = 0\n", "min_map_points = x\n"}) {
+  for (const char* bad :
+       {"occupied_threshold = 0.5\n", "min_inlier_ratio = 1.5\n", "max_correction_deg = 0\n",
+        "icp_max_iterations = 0\n", "icp_smallest_threshold_dist_m = 0.9\n",
+        "min_constraint = -1\n", "overlap_distance_m = 0\n", "min_map_points = x\n"}) {
     try {
       load(bad);
       ADD_FAILURE() << "accepted " << bad;
