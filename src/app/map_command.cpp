@@ -150,6 +150,11 @@ int runMap(const Args& args) {
     std::cerr << "dynamap map: " << c.scans_used << " scans mapped from " << input << " ("
               << mapper.poseSourceName(*source) << " poses) in " << std::fixed
               << std::setprecision(2) << wall_s << " s; outputs in " << out_dir << "/\n";
+    if (mapper.scanMatching()) {
+      const ScanMatchCounts& m = mapper.scanMatchCounts();
+      std::cerr << "dynamap map: scan matching corrected " << m.matched << " scans; "
+                << m.fallbackTotal() << " kept their odometry pose (see summary.json)\n";
+    }
     if (baseline) {
       const PlainComparison cmp = comparePlain(mapper.map(), baseline->grid());
       std::cerr << "dynamap map: plain MRPT grid of the same scans (" << baseline_s
