@@ -412,4 +412,59 @@ double harmonicMean(double a, double b) {
   return a + b == 0 ? 0.0 : 2 * a * b / (a + b);
 }
 
+// --- trajectory level ------------------------------------------------------------------------
+
+namespace {
+
+double wrapAngle(double a) {
+  return std::remainder(a, 2.0 * M_PI);
+}
+
+/// The truth pose whose timestamp is within `tol` of t, or nullptr.
+const TimedPose* truthAt(const std::vector<TimedPose>& truth, double t, double tol) {
+  auto it = std::lower_bound(truth.begin(), truth.end(), t - tol,
+                             [](const TimedPose& p, double v) { return p.t < v; });
+  const TimedPose* best = nullptr;
+  for (; it != truth.end() && it->t <= t + tol; ++it) {
+    if (!best || std::abs(it->t - t) < std::abs(best->t - t)) best = &*it;
+  }
+  return best;
+}
+
+}  // namespace
+
+TrajectoryError trajectoryError(const std::vector<TimedPose>& estimate,
+                                const std::vector<TimedPose>& truth, double time_tolerance_s) {
+  TrajectoryError e;
+  bool anchored = false;
+  double c = 1, s = 0, tx = 0, ty = 0, dphi = 0;  // estimate frame -> truth frame
+  double sum_xy = 0, sum_phi = 0;
+  for (const TimedPose& p : estimate) {
+    const TimedPose* g = truthAt(truth, p.t, time_tolerance_s);
+    if (!g) {
+      ++e.unmatched;
+      continue;
+    }
+    if (!anchored) {  // the rotation and translation that put this pose on the truth's
+      dphi = wrapAngle(g->phi - p.phi);
+      c = std::cos(dphi), s = std::sin(dphi);
+      tx = g->x - (c * p.x - s * p.y);
+      ty = g->y - (s * p.x + c * p.y);
+      anchored = true;
+    }
+    const double x = c * p.x - s * p.y + tx, y = s * p.x + c * p.y + ty;
+    const double d2 = (x - g->x) * (x - g->x) + (y - g->y) * (y - g->y);
+    const double dp = wrapAngle(p.phi + dphi - g->phi);
+    sum_xy += d2;
+    sum_phi += dp * dp;
+    e.max_xy_m = std::max(e.max_xy_m, std::sqrt(d2));
+    ++e.matched;
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  e.rmse_xy_m = e.matched ? std::sqrt(sum_xy / static_cast<double>(e.matched)) : nan;
+  e.rmse_phi_rad = e.matched ? std::sqrt(sum_phi / static_cast<double>(e.matched)) : nan;
+  if (!e.matched) e.max_xy_m = nan;
+  return e;
+}
+
 }  // namespace dynamap

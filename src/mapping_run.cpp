@@ -13,12 +13,13 @@
 namespace dynamap {
 
 MapConfig MapConfig::load(const IniFile& ini) {
-  ini.requireKnownSections(
-      {DynamicMapOptions::kSection, InsertionOptions::kSection, ObjectOptions::kSection, "input"});
+  ini.requireKnownSections({DynamicMapOptions::kSection, InsertionOptions::kSection,
+                            ObjectOptions::kSection, ScanMatchOptions::kSection, "input"});
   MapConfig c;
   c.map.load(ini);
   c.insertion.load(ini);
   c.objects.load(ini);
+  c.scan_matching.load(ini);
   ini.requireKnownKeys("input", {"poses"});
   const std::string poses = ini.getString("input", "poses", "auto");
   try {
@@ -32,19 +33,56 @@ MapConfig MapConfig::load(const IniFile& ini) {
 void MapConfig::writeIni(std::ostream& out) const {
   out << "; the effective configuration of this run (reload it with --config)\n\n";
   out << "[input]\n"
-      << "poses = " << toString(poses) << "  ; auto | simplemap | ground_truth | odometry\n\n";
+      << "poses = " << toString(poses)
+      << "  ; auto | simplemap | ground_truth | odometry | scan_matching\n\n";
   map.writeIni(out);
   out << "\n";
   insertion.writeIni(out);
   out << "\n";
   objects.writeIni(out);
+  out << "\n";
+  scan_matching.writeIni(out);
+}
+
+std::size_t ScanMatchCounts::fallbackTotal() const {
+  std::size_t n = 0;
+  for (const auto& kv : fallbacks) n += kv.second;
+  return n;
 }
 
 Mapper::Mapper(const MapConfig& config)
     : config_(config),
       map_(config.map, config.insertion),
       tracker_(config.objects),
-      path_step_(std::max(0.05, config.map.resolution)) {}
+      path_step_(std::max(0.05, config.map.resolution)) {
+  if (config.poses == PoseSource::ScanMatching) {
+    matcher_ = std::make_unique<ScanMatcher>(config.scan_matching,
+                                             config.insertion.max_distance_insertion);
+  }
+}
+
+std::string Mapper::poseSourceName(const ScanSource& source) const {
+  return toString(matcher_ ? PoseSource::ScanMatching : source.poseSource());
+}
+
+mrpt::poses::CPose2D Mapper::correctPose(const ScanRecord& rec) {
+  // The odometry increment since the last scan, applied to the last pose used, is the guess.
+  const mrpt::poses::CPose2D guess =
+      have_pose_ ? last_pose_ + (rec.pose - last_odometry_) : rec.pose;
+  // Matched against S only: D's people and moved objects cannot pull the pose.
+  const ScanMatchResult r = matcher_->match(map_, *rec.scan, guess);
+  if (r.matched) {
+    ++match_counts_.matched;
+    match_counts_.sum_correction_m += r.correction_m;
+    match_counts_.max_correction_m = std::max(match_counts_.max_correction_m, r.correction_m);
+  } else {
+    ++match_counts_.fallbacks[r.fallback_reason];
+  }
+  have_pose_ = true;
+  last_odometry_ = rec.pose;
+  last_pose_ = r.pose;
+  return r.pose;
+}
 
 bool Mapper::process(const ScanRecord& rec) {
   if (have_t_ && rec.t < counts_.last_t) ++counts_.time_backwards;
@@ -52,8 +90,9 @@ bool Mapper::process(const ScanRecord& rec) {
   have_t_ = true;
   counts_.last_t = rec.t;
 
-  const mrpt::poses::CPose3D pose(rec.pose);
-  map_.insertObservation(*rec.scan, pose);
+  const mrpt::poses::CPose2D pose2 = matcher_ ? correctPose(rec) : rec.pose;
+  used_poses_.push_back({rec.t, pose2});
+  map_.insertObservation(*rec.scan, mrpt::poses::CPose3D(pose2));
   const ScanInsertStats& st = map_.lastInsertStats();
   counts_.beams_bad += st.beams_bad;
   if (!st.inserted) {
@@ -62,9 +101,9 @@ bool Mapper::process(const ScanRecord& rec) {
   }
   ++counts_.scans_used;
   // Objects, from the D cells this scan changed and the scan's view of known places.
-  tracker_.update(map_, makeScanView(*rec.scan, rec.pose, config_.insertion.max_distance_insertion),
+  tracker_.update(map_, makeScanView(*rec.scan, pose2, config_.insertion.max_distance_insertion),
                   rec.t, rec.index);
-  const PathPoint p{rec.pose.x(), rec.pose.y()};
+  const PathPoint p{pose2.x(), pose2.y()};
   if (path_.empty() || std::hypot(p.x - path_.back().x, p.y - path_.back().y) >= path_step_) {
     path_.push_back(p);
   }
@@ -83,6 +122,7 @@ InputOutcome runMapping(ScanSource& source, Mapper& mapper,
       break;
     }
     mapper.process(rec);
+    rec.pose = mapper.usedPoses().back().pose;  // scan matching may have corrected it
     if (on_scan) on_scan(rec);
   }
   return outcome;
@@ -133,6 +173,16 @@ void TrackLog::finish() {
     throw std::runtime_error(dir_ + "/tracks.csv: cannot write");
   }
   commit(tmp_, dir_, "tracks.csv");
+}
+
+void writePosesTxt(std::ostream& o, const std::vector<UsedPose>& poses) {
+  o << "% timestamp x y phi (the pose each scan was mapped at)\n";
+  char buf[128];
+  for (const UsedPose& p : poses) {
+    std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f\n", p.t, p.pose.x(), p.pose.y(),
+                  p.pose.phi());
+    o << buf;
+  }
 }
 
 void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {
@@ -189,6 +239,24 @@ void writeBaselineSummary(std::ostream& o, const DynamicGridMap& m, const PlainG
     << "  },\n";
 }
 
+// How many scans scan matching placed, and why the others kept their odometry pose.
+void writeScanMatchSummary(std::ostream& o, const ScanMatchCounts& c) {
+  o << "  \"scan_matching\": {\n"
+    << "    \"matched\": " << c.matched << ",\n"
+    << "    \"fallbacks\": " << c.fallbackTotal() << ",\n"
+    << "    \"fallbacks_by_reason\": {";
+  bool first = true;
+  for (const auto& kv : c.fallbacks) {
+    o << (first ? "" : ", ") << jsonString(kv.first) << ": " << kv.second;
+    first = false;
+  }
+  o << "},\n"
+    << "    \"mean_correction_m\": "
+    << fmt("%.4f", c.matched ? c.sum_correction_m / static_cast<double>(c.matched) : 0.0) << ",\n"
+    << "    \"max_correction_m\": " << fmt("%.4f", c.max_correction_m) << "\n"
+    << "  },\n";
+}
+
 void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& source,
                   const OutputInfo& info) {
   const DynamicGridMap& m = mapper.map();
@@ -200,7 +268,7 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
   o << std::setprecision(10);
   o << "{\n"
     << "  \"input\": " << jsonString(info.input) << ",\n"
-    << "  \"pose_source\": " << jsonString(toString(source.poseSource())) << ",\n"
+    << "  \"pose_source\": " << jsonString(mapper.poseSourceName(source)) << ",\n"
     << "  \"complete_input\": " << (info.outcome.fault.empty() ? "true" : "false") << ",\n"
     << "  \"input_fault\": "
     << (info.outcome.fault.empty() ? "null" : jsonString(info.outcome.fault)) << ",\n"
@@ -234,6 +302,7 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
     << "    \"dynamic_occupied\": " << cells.dynamic_occupied << "\n"
     << "  },\n";
   writeObjectSummary(o, mapper.tracker());
+  if (mapper.scanMatching()) writeScanMatchSummary(o, mapper.scanMatchCounts());
   if (info.baseline) writeBaselineSummary(o, m, *info.baseline);
   o << "  \"timing\": {\n"
     << "    \"note\": \"the only part of the outputs that differs between identical runs\",\n"
@@ -266,6 +335,8 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
                       [&](std::ostream& o) { writeObjectsCsv(o, mapper.tracker()); });
   writeFileAtomically(dir, "events.csv",
                       [&](std::ostream& o) { writeEventsCsv(o, mapper.tracker()); });
+  writeFileAtomically(dir, "poses.txt",
+                      [&](std::ostream& o) { writePosesTxt(o, mapper.usedPoses()); });
   if (info.baseline)
     saveImageAtomically(renderStatic(info.baseline->grid()), dir, "mrpt_plain.png");
   writeFileAtomically(dir, "summary.json",

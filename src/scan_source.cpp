@@ -105,8 +105,9 @@ PoseSource parsePoseSource(const std::string& name) {
   if (name == "simplemap") return PoseSource::Simplemap;
   if (name == "ground_truth") return PoseSource::GroundTruth;
   if (name == "odometry") return PoseSource::Odometry;
+  if (name == "scan_matching") return PoseSource::ScanMatching;
   throw std::invalid_argument("unknown pose source '" + name +
-                              "' (auto, simplemap, ground_truth, odometry)");
+                              "' (auto, simplemap, ground_truth, odometry, scan_matching)");
 }
 
 std::string toString(PoseSource source) {
@@ -119,6 +120,8 @@ std::string toString(PoseSource source) {
       return "ground_truth";
     case PoseSource::Odometry:
       return "odometry";
+    case PoseSource::ScanMatching:
+      return "scan_matching";
   }
   return "?";
 }
@@ -293,16 +296,16 @@ class RawlogSource : public ScanSource {
     ++stats_.records;
     if (!obj) return;
     if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
-      if (odometry_from_actions_) {
-        // The odometry integrated so far is the pose of this frame's observations.
+      for (const auto& o : *sf) take(o);
+      if (!odometry_observed_) {
+        // Action / sensory-frame format: the odometry integrated so far (the origin before the
+        // first action) is the pose of this frame's observations.
         const double t = frameTime(*sf);
         if (std::isfinite(t) && source_ == PoseSource::Odometry) poses_.add(t, odometry_);
       }
-      for (const auto& o : *sf) take(o);
     } else if (auto acts = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
       if (auto mv = acts->getBestMovementEstimation()) {
         odometry_ = odometry_ + mv->poseChange->getMeanVal();
-        odometry_from_actions_ = true;
       }
     } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
       take(o);
@@ -346,6 +349,7 @@ class RawlogSource : public ScanSource {
                          " scans after it");
       }
     } else if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
+      odometry_observed_ = true;
       if (source_ == PoseSource::Odometry && std::isfinite(t)) poses_.add(t, odo->odometry);
     } else if (auto gt = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o)) {
       if (source_ == PoseSource::GroundTruth && !poses_from_file_ && std::isfinite(t)) {
@@ -405,7 +409,7 @@ class RawlogSource : public ScanSource {
   PoseTrack poses_;
   bool poses_from_file_ = false;
   mrpt::poses::CPose2D odometry_;
-  bool odometry_from_actions_ = false;
+  bool odometry_observed_ = false;  // CObservationOdometry seen: frames carry no pose of their own
   std::deque<Pending> pending_;
   std::deque<ScanRecord> ready_;
   bool eof_ = false;
@@ -504,6 +508,7 @@ class SimplemapSource : public ScanSource {
 std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource source,
                                            const CarmenOptions* carmen) {
   if (!fileExists(path)) throw InputError(path + ": no such file");
+  if (source == PoseSource::ScanMatching) source = PoseSource::Odometry;  // corrected by Mapper
   if (looksLikeCarmen(path))
     return openCarmenSource(path, source, carmen ? *carmen : CarmenOptions{});
   const std::string head = fileHead(path, 256);

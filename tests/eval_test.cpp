@@ -443,5 +443,48 @@ TEST(EvalCommand, MalformedTruthLineNamesFileAndLine) {
   EXPECT_NE(output.find("tiny.objects.csv:3: x: not a number"), std::string::npos) << output;
 }
 
+// ---- absolute trajectory error ----------------------------------------------------------------
+
+TEST(EvalTrajectory, KnownOffsetsGiveTheirRmse) {
+  const std::vector<TimedPose> truth = {{0, 0, 0, 0}, {1, 1, 0, 0}, {2, 2, 0, 0}, {3, 3, 0, 0}};
+  // First pose exact, then 3 cm and 4 cm off, and 0.02 rad off in heading once.
+  const std::vector<TimedPose> est = {
+      {0, 0, 0, 0}, {1, 1.03, 0, 0}, {2, 2, 0.04, 0.02}, {3, 3, 0, 0}};
+  const TrajectoryError e = trajectoryError(est, truth);
+  EXPECT_EQ(e.matched, 4u);
+  EXPECT_EQ(e.unmatched, 0u);
+  EXPECT_NEAR(e.rmse_xy_m, std::sqrt((0.03 * 0.03 + 0.04 * 0.04) / 4), 1e-12);
+  EXPECT_NEAR(e.rmse_phi_rad, std::sqrt(0.02 * 0.02 / 4), 1e-12);
+  EXPECT_NEAR(e.max_xy_m, 0.04, 1e-12);
+}
+
+TEST(EvalTrajectory, AnEstimateInItsOwnFrameIsAnchoredAtTheFirstPose) {
+  // The truth starts at (5, 2) facing +y; the estimate is the same path from the origin facing
+  // +x (a SLAM run's own frame): after anchoring it is exact.
+  const std::vector<TimedPose> truth = {
+      {10, 5, 2, M_PI / 2}, {11, 5, 3, M_PI / 2}, {12, 4, 3, M_PI}};
+  const std::vector<TimedPose> est = {{10, 0, 0, 0}, {11, 1, 0, 0}, {12, 1, 1, M_PI / 2}};
+  const TrajectoryError e = trajectoryError(est, truth);
+  EXPECT_EQ(e.matched, 3u);
+  EXPECT_NEAR(e.rmse_xy_m, 0, 1e-9);
+  EXPECT_NEAR(e.rmse_phi_rad, 0, 1e-9);
+}
+
+TEST(EvalTrajectory, PosesWithoutTruthAtTheirTimeAreCountedNotScored) {
+  const std::vector<TimedPose> truth = {{0, 0, 0, 0}, {1, 1, 0, 0}};
+  const std::vector<TimedPose> est = {{0, 0, 0, 0}, {0.5, 9, 9, 0}, {1.0005, 1.1, 0, 0}};
+  const TrajectoryError e = trajectoryError(est, truth);
+  EXPECT_EQ(e.matched, 2u);
+  EXPECT_EQ(e.unmatched, 1u);
+  EXPECT_NEAR(e.rmse_xy_m, std::sqrt(0.01 / 2), 1e-9);
+  EXPECT_TRUE(std::isnan(trajectoryError({{7, 0, 0, 0}}, truth).rmse_xy_m));
+}
+
+TEST(EvalTrajectory, HeadingErrorWrapsAroundPi) {
+  const std::vector<TimedPose> truth = {{0, 0, 0, 0}, {1, 0, 0, M_PI - 0.01}};
+  const std::vector<TimedPose> est = {{0, 0, 0, 0}, {1, 0, 0, -M_PI + 0.01}};
+  EXPECT_NEAR(trajectoryError(est, truth).rmse_phi_rad, std::sqrt(0.02 * 0.02 / 2), 1e-9);
+}
+
 }  // namespace
 }  // namespace dynamap

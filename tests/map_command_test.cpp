@@ -60,7 +60,7 @@ TEST_F(MapCommand, WritesEveryOutput) {
   for (const char* f :
        {"static.png", "dynamic.png", "overlay.png", "static.gridmap.gz", "dynamic.gridmap.gz",
         "static.pgm", "static.yaml", "config.ini", "summary.json", "objects.csv", "events.csv",
-        "tracks.csv", "mrpt_plain.png"}) {
+        "tracks.csv", "mrpt_plain.png", "poses.txt"}) {
     EXPECT_TRUE(fs::exists(*out_ + "/" + f)) << f;
   }
   for (const auto& e : fs::directory_iterator(*out_)) {
@@ -119,6 +119,59 @@ TEST_F(MapCommand, SummaryComparesSWithAPlainMrptGridUnlessToldNotTo) {
   ASSERT_EQ(map("--no-baseline --input " + kTiny + " --out " + bare), 0);
   EXPECT_FALSE(fs::exists(bare + "/mrpt_plain.png"));
   EXPECT_EQ(test::readFile(bare + "/summary.json").find("mrpt_baseline"), std::string::npos);
+}
+
+// poses.txt: a `timestamp x y phi` line per scan, the poses used; with ground truth, the truth.
+TEST_F(MapCommand, PosesTxtHoldsThePoseOfEveryScan) {
+  ASSERT_EQ(status_, 0) << *log_;
+  std::ifstream poses(*out_ + "/poses.txt"), truth(kSrc + "/rawlogs/tiny/tiny.gt.txt");
+  std::string line;
+  std::getline(poses, line);
+  EXPECT_EQ(line[0], '%');  // the header
+  std::size_t n = 0;
+  double t, x, y, phi, gt, gx, gy, gphi;
+  while (poses >> t >> x >> y >> phi) {
+    ASSERT_TRUE(truth >> gt >> gx >> gy >> gphi);
+    EXPECT_NEAR(t, gt, 1e-6);
+    EXPECT_NEAR(x, gx, 1e-5);
+    EXPECT_NEAR(y, gy, 1e-5);
+    ++n;
+  }
+  EXPECT_EQ(n, 301u);
+}
+
+// --poses scan_matching: the odometry corrected against S, counted in summary.json, the same
+// bytes when run again; in the tiny room its heading is better than the odometry's and its
+// position within a cell of the truth (the odometry drifts only 3 cm in this minute).
+TEST(MapCommandScanMatching, CorrectsTheOdometryAndIsReproducible) {
+  const std::string a = test::tempDir("map-sm"), b = test::tempDir("map-sm2"),
+                    odo = test::tempDir("map-odo");
+  ASSERT_EQ(map("--poses scan_matching --no-baseline --input " + kTiny + " --out " + a), 0);
+  ASSERT_EQ(map("--poses scan_matching --no-baseline --input " + kTiny + " --out " + b), 0);
+  ASSERT_EQ(map("--poses odometry --no-baseline --input " + kTiny + " --out " + odo), 0);
+  const std::string summary = test::readFile(a + "/summary.json");
+  EXPECT_NE(summary.find("\"pose_source\": \"scan_matching\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"scan_matching\": {"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"too few map points\": 1"), std::string::npos) << summary;
+  for (const char* f : {"poses.txt", "static.gridmap.gz", "tracks.csv", "config.ini"}) {
+    EXPECT_EQ(test::readFile(a + "/" + f), test::readFile(b + "/" + f)) << f;
+  }
+  EXPECT_EQ(summaryWithoutTiming(a + "/summary.json"), summaryWithoutTiming(b + "/summary.json"));
+  EXPECT_NE(test::readFile(a + "/config.ini").find("[scan_matching]"), std::string::npos);
+  // Scored against the truth by dynamap eval --trajectory.
+  auto ate = [&](const std::string& dir, const char* what) {
+    std::string out;
+    EXPECT_EQ(test::run(kExe + " eval --truth " + kSrc + "/rawlogs/tiny --trajectory " + dir +
+                            "/poses.txt",
+                        &out),
+              0)
+        << out;
+    const auto at = out.find(what);
+    EXPECT_NE(at, std::string::npos) << out;
+    return std::stod(out.substr(at + std::string(what).size()));
+  };
+  EXPECT_LT(ate(a, "heading "), ate(odo, "heading "));
+  EXPECT_LT(ate(a, "position "), 0.05);
 }
 
 TEST(MapCommandErrors, ExitStatusesAndOneLineMessages) {

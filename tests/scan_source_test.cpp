@@ -3,6 +3,12 @@
 
 #include "dynamap/scan_source.h"
 
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -98,6 +104,37 @@ TEST(ScanSource, ActionSensoryFrameRawlogIntegratesOdometry) {
     EXPECT_NEAR(recs[k].pose.x(), steps[k].pose.x(), 1e-6) << k;
     EXPECT_NEAR(recs[k].pose.phi(), steps[k].pose.phi(), 1e-6) << k;
   }
+}
+
+// MRPT's own logs (the SENA one) may open with a sensory frame before any action: the robot is
+// at the origin of its odometry then.
+TEST(ScanSource, ActionSensoryFrameRawlogMayStartWithAFrame) {
+  const std::string dir = test::tempDir("src");
+  {
+    mrpt::io::CFileGZOutputStream out(dir + "/first-frame.rawlog");
+    auto ar = mrpt::serialization::archiveFrom(out);
+    const auto steps = tenSteps();
+    mrpt::poses::CPose2D prev;
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (k > 0) {
+        mrpt::obs::CActionCollection acts;
+        mrpt::obs::CActionRobotMovement2D mv;
+        mv.computeFromOdometry(steps[k].pose - prev, {});
+        acts.insert(mv);
+        ar << acts;
+      }
+      mrpt::obs::CSensoryFrame sf;
+      steps[k].scan->timestamp = mrpt::Clock::fromDouble(steps[k].t);
+      sf.insert(steps[k].scan);
+      ar << sf;
+      prev = steps[k].pose;
+    }
+  }
+  auto src = openScanSource(dir + "/first-frame.rawlog", PoseSource::Odometry);
+  const auto recs = readAll(*src);
+  ASSERT_EQ(recs.size(), 3u);
+  EXPECT_NEAR(recs[0].pose.x(), 0.0, 1e-9);
+  EXPECT_NEAR(recs[2].pose.x(), (tenSteps()[2].pose - tenSteps()[0].pose).x(), 1e-6);
 }
 
 TEST(ScanSource, SimplemapOfMrptsExamples) {

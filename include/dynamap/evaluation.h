@@ -184,6 +184,33 @@ CellMask unionOccupied(const std::vector<float>& s_occ, const std::vector<float>
 /// Cells observed at least once: some layer's P(occ) is off the 0.5 prior.
 CellMask observedCells(const std::vector<const std::vector<float>*>& layers);
 
+// --- trajectory level ------------------------------------------------------------------------
+
+/// A robot pose at a time (a line of poses.txt or <name>.gt.txt: `timestamp x y phi`).
+struct TimedPose {
+  double t = 0;
+  double x = 0, y = 0, phi = 0;
+};
+
+/// Absolute trajectory error of an estimate against the truth.
+struct TrajectoryError {
+  std::size_t matched = 0;    ///< estimated poses with a truth pose at their timestamp
+  std::size_t unmatched = 0;  ///< estimated poses without one (not scored)
+  double rmse_xy_m = 0;       ///< RMSE of the position error; NaN when nothing matched
+  double rmse_phi_rad = 0;    ///< RMSE of the heading error (wrapped to [-pi, pi])
+  double max_xy_m = 0;        ///< largest position error
+};
+
+/// Pairs each estimated pose with the truth pose of the same timestamp (within
+/// `time_tolerance_s`; `truth` sorted by time) and scores them. The estimate is first anchored
+/// at the truth: its first matched pose is moved onto the truth's, and every other pose with it
+/// (a rigid SE(2) transform), so an estimate in its own frame (a SLAM run starting at the
+/// origin) is scored like one in the truth's frame; an estimate that starts on the truth, as
+/// dynamap's do, is unchanged.
+TrajectoryError trajectoryError(const std::vector<TimedPose>& estimate,
+                                const std::vector<TimedPose>& truth,
+                                double time_tolerance_s = 1e-3);
+
 /// √(a·b) and 2ab/(a+b); NaN when either is NaN, 0 when both are 0.
 double geometricMean(double a, double b);
 double harmonicMean(double a, double b);

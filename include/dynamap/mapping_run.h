@@ -14,6 +14,7 @@
 #include "dynamap/object_tracker.h"
 #include "dynamap/plain_grid.h"
 #include "dynamap/render.h"
+#include "dynamap/scan_matcher.h"
 #include "dynamap/scan_source.h"
 
 namespace dynamap {
@@ -25,6 +26,7 @@ struct MapConfig {
   DynamicMapOptions map;
   InsertionOptions insertion;
   ObjectOptions objects;
+  ScanMatchOptions scan_matching;       ///< used when poses is ScanMatching
   PoseSource poses = PoseSource::Auto;  ///< [input] poses
 
   /// Strict: unknown sections or keys, bad values: ConfigError naming file, section and key.
@@ -42,12 +44,29 @@ struct RunCounts {
   double first_t = 0, last_t = 0;
 };
 
+/// Counts of the scan matching, for summary.json (all zero without it).
+struct ScanMatchCounts {
+  std::size_t matched = 0;
+  std::map<std::string, std::size_t> fallbacks;  ///< scans placed by odometry, by reason
+  double sum_correction_m = 0;                   ///< over matched scans
+  double max_correction_m = 0;
+  std::size_t fallbackTotal() const;
+};
+
+/// The pose a scan was inserted at (poses.txt).
+struct UsedPose {
+  double t = 0;
+  mrpt::poses::CPose2D pose;
+};
+
 /// The per-scan step: insert into S and D, update the object table, extend the robot's path.
 class Mapper {
  public:
   explicit Mapper(const MapConfig& config);
 
-  /// Inserts one scan; false when it was skipped (counted by reason).
+  /// Inserts one scan; false when it was skipped (counted by reason). With scan matching, the
+  /// scan's pose is the odometry increment since the last scan applied to the last pose used,
+  /// then corrected by matching the scan against S.
   bool process(const ScanRecord& rec);
 
   const DynamicGridMap& map() const { return map_; }
@@ -56,8 +75,17 @@ class Mapper {
   const std::vector<PathPoint>& path() const { return path_; }
   const RunCounts& counts() const { return counts_; }
   const MapConfig& config() const { return config_; }
+  /// The pose each scan was processed at, in input order (the poses of poses.txt).
+  const std::vector<UsedPose>& usedPoses() const { return used_poses_; }
+  bool scanMatching() const { return matcher_ != nullptr; }
+  const ScanMatchCounts& scanMatchCounts() const { return match_counts_; }
+  /// The pose source of this run: the source's, or scan_matching.
+  std::string poseSourceName(const ScanSource& source) const;
 
  private:
+  /// The odometry pose of `rec` turned into the pose to insert it at (scan matching).
+  mrpt::poses::CPose2D correctPose(const ScanRecord& rec);
+
   MapConfig config_;
   DynamicGridMap map_;
   ObjectTracker tracker_;
@@ -65,6 +93,11 @@ class Mapper {
   double path_step_;
   RunCounts counts_;
   bool have_t_ = false;
+  std::vector<UsedPose> used_poses_;
+  std::unique_ptr<ScanMatcher> matcher_;  // null unless poses is ScanMatching
+  ScanMatchCounts match_counts_;
+  bool have_pose_ = false;
+  mrpt::poses::CPose2D last_odometry_, last_pose_;
 };
 
 /// tracks.csv, streamed while the run goes: after every scan, one row per present object
@@ -87,6 +120,9 @@ class TrackLog {
   std::unique_ptr<std::ofstream> out_;
 };
 
+/// poses.txt: `timestamp x y phi` per scan, the poses used (MRPT's .gt.txt format).
+void writePosesTxt(std::ostream& out, const std::vector<UsedPose>& poses);
+
 /// Writers of the object table, exact and fixed-format (byte-identical between runs).
 void writeObjectsCsv(std::ostream& out, const ObjectTracker& tracker);
 void writeEventsCsv(std::ostream& out, const ObjectTracker& tracker);
@@ -96,7 +132,8 @@ struct InputOutcome {
   std::string fault;
 };
 
-/// Feeds every scan of `source` to `mapper`, calling `on_scan` after each. An InputError from
+/// Feeds every scan of `source` to `mapper`, calling `on_scan` after each with the record as
+/// mapped (its pose the one used, corrected when scan matching). An InputError from
 /// the source ends the loop and is returned as the outcome's fault: everything before it stays.
 InputOutcome runMapping(ScanSource& source, Mapper& mapper,
                         const std::function<void(const ScanRecord&)>& on_scan = {});

@@ -22,9 +22,13 @@ enum class PoseSource {
   Simplemap,    ///< the keyframe poses of a simplemap
   GroundTruth,  ///< CObservationRobotPose in the log, or a companion <log>.gt.txt file
   Odometry,     ///< CObservationOdometry, or integrated CActionRobotMovement2D
+  /// Odometry corrected by matching each scan against the static map (ScanMatcher). A source
+  /// opened with it reads odometry; the Mapper does the matching.
+  ScanMatching,
 };
 
-/// "auto", "simplemap", "ground_truth", "odometry"; throws std::invalid_argument otherwise.
+/// "auto", "simplemap", "ground_truth", "odometry", "scan_matching"; throws std::invalid_argument
+/// otherwise.
 PoseSource parsePoseSource(const std::string& name);
 std::string toString(PoseSource source);
 
@@ -73,7 +77,7 @@ std::uint64_t uncompressedSize(const std::string& path);
 struct CarmenOptions;
 
 /// Opens `path`, telling its format by content (CARMEN text, simplemap, rawlog); `carmen`
-/// (nullptr: defaults) applies to CARMEN logs.
+/// (nullptr: defaults) applies to CARMEN logs. ScanMatching opens the odometry poses.
 /// Throws InputError if the file cannot be read or no scan can have a pose under `source`.
 std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource source,
                                            const CarmenOptions* carmen = nullptr);

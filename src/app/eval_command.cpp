@@ -29,7 +29,8 @@ namespace fs = std::filesystem;
 
 const char* const kUsage =
     "usage: dynamap eval --scenario FILE --truth PREFIX --result DIR [--config FILE]\n"
-    "       dynamap eval --summary DIR...\n\n"
+    "       dynamap eval --summary DIR...\n"
+    "       dynamap eval --truth PREFIX --trajectory FILE\n\n"
     "Scores a `dynamap map` result against the simulator's ground truth: per object move\n"
     "(the paper's Table 3: correctly detected, not detected, size estimation errors, static\n"
     "parts detected as objects, latency) and per cell (SA, DA, AA, HA of the static map, and\n"
@@ -38,6 +39,9 @@ const char* const kUsage =
     "(rawlogs/arena). When DIR has no summary.json the mapper runs first (ground-truth\n"
     "poses, --config). Prints a table and writes DIR/report.md and DIR/metrics.json.\n"
     "--summary prints one table of several evaluated results beside the paper's Table 3.\n"
+    "The poses the result was mapped at (DIR/poses.txt) and the log's raw odometry are scored\n"
+    "against the truth's poses (PREFIX.gt.txt): absolute trajectory error, RMSE of position and\n"
+    "heading. --trajectory scores any `timestamp x y phi` file (e.g. another SLAM's) that way.\n"
     "Definitions: docs/evaluation.md.";
 
 // ---- reading the truth and the tracks ------------------------------------------------------
@@ -160,6 +164,39 @@ std::vector<TrackRow> readTracks(const std::string& path) {
   return rows;
 }
 
+/// `timestamp x y phi` lines (poses.txt, <name>.gt.txt); '%' and '#' start comment lines.
+std::vector<TimedPose> readPoses(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open");
+  std::vector<TimedPose> poses;
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '%' || line[first] == '#') continue;
+    std::istringstream fields(line);
+    std::string tok[4];
+    double v[4];
+    for (int k = 0; k < 4; ++k) {
+      if (!(fields >> tok[k]) || !parseDouble(tok[k], v[k])) {
+        throw InputError(path + ":" + std::to_string(n) + ": expected 'timestamp x y phi'");
+      }
+    }
+    poses.push_back({v[0], v[1], v[2], v[3]});
+  }
+  std::stable_sort(poses.begin(), poses.end(),
+                   [](const TimedPose& a, const TimedPose& b) { return a.t < b.t; });
+  return poses;
+}
+
+/// The raw odometry pose of every scan of a rawlog.
+std::vector<TimedPose> odometryPoses(const std::string& rawlog) {
+  auto source = openScanSource(rawlog, PoseSource::Odometry);
+  std::vector<TimedPose> poses;
+  ScanRecord rec;
+  while (source->next(rec)) poses.push_back({rec.t, rec.pose.x(), rec.pose.y(), rec.pose.phi()});
+  return poses;
+}
+
 /// "rawlogs/arena" (a directory) stands for "rawlogs/arena/arena".
 std::string truthPrefix(const std::string& given) {
   const fs::path p(given);
@@ -249,6 +286,8 @@ struct Evaluation {
   PrecisionRecall union_pr;
   double object_threshold = 0.85;
   std::vector<std::string> notes;
+  bool have_poses = false;               // the result has poses.txt
+  TrajectoryError trajectory, odometry;  // of poses.txt and of the log's raw odometry
 };
 
 double objectThreshold(const std::string& result) {
@@ -347,6 +386,15 @@ void printTable(std::ostream& o, const Evaluation& ev) {
   }
   o << "  S u D at the last scan: precision " << pct(ev.union_pr.precision) << " %, recall "
     << pct(ev.union_pr.recall) << " %\n";
+  if (ev.have_poses) {
+    o << "\n  trajectory (ATE RMSE)     position m   heading deg\n";
+    for (const auto& [name, e] :
+         {std::pair<const char*, const TrajectoryError&>{"poses mapped at ", ev.trajectory},
+          {"raw odometry    ", ev.odometry}}) {
+      o << "  " << name << std::setw(19) << num(e.rmse_xy_m, 4, "n/a") << std::setw(14)
+        << num(e.rmse_phi_rad * 180.0 / M_PI, 3, "n/a") << "\n";
+    }
+  }
   for (const auto& n : ev.notes) o << "  note: " << n << "\n";
 }
 
@@ -421,6 +469,14 @@ void writeMetricsJson(std::ostream& o, const Evaluation& ev) {
     << "  \"union_precision\": " << num(ev.union_pr.precision, 3) << ",\n"
     << "  \"union_recall\": " << num(ev.union_pr.recall, 3) << ",\n"
     << "  \"tracker_id_count\": " << ob.ids.size() << ",\n"
+    << "  \"ate_rmse_xy_m\": " << (ev.have_poses ? num(ev.trajectory.rmse_xy_m, 4) : "null")
+    << ",\n"
+    << "  \"ate_rmse_phi_deg\": "
+    << (ev.have_poses ? num(ev.trajectory.rmse_phi_rad * 180.0 / M_PI, 3) : "null") << ",\n"
+    << "  \"odometry_ate_rmse_xy_m\": " << (ev.have_poses ? num(ev.odometry.rmse_xy_m, 4) : "null")
+    << ",\n"
+    << "  \"odometry_ate_rmse_phi_deg\": "
+    << (ev.have_poses ? num(ev.odometry.rmse_phi_rad * 180.0 / M_PI, 3) : "null") << ",\n"
     << "  \"cells\": {\n"
     << "    \"observed\": " << ev.observed << ",\n"
     << "    \"object_threshold\": " << num(ev.object_threshold, 3) << ",\n"
@@ -531,6 +587,8 @@ int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
       {"HA % plain MRPT", "mrpt_ha", nullptr},
       {"S u D precision %", "union_precision", nullptr},
       {"S u D recall %", "union_recall", nullptr},
+      {"ATE position RMSE (m)", "ate_rmse_xy_m", nullptr},
+      {"ATE heading RMSE (deg)", "ate_rmse_phi_deg", nullptr},
   };
   for (const auto& row : rows) {
     o << std::setw(kLabel) << row.label;
@@ -582,6 +640,13 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
     throw InputError(tracks.string() + ": " + e.what());
   }
   evaluateCells(scenario, rows, moves, rawlog, ev);
+  const fs::path poses = fs::path(result) / "poses.txt";
+  ev.have_poses = fs::exists(poses);
+  if (ev.have_poses) {
+    const auto truth = readPoses(prefix + ".gt.txt");
+    ev.trajectory = trajectoryError(readPoses(poses.string()), truth);
+    ev.odometry = trajectoryError(odometryPoses(rawlog), truth);
+  }
   return ev;
 }
 
@@ -597,7 +662,9 @@ int runEval(const Args& args) {
       "config,c", po::value<std::string>()->default_value("config/default.ini"),
       "the mapper's configuration, used only when the result must be mapped first")(
       "summary", po::value<std::vector<std::string>>()->multitoken(),
-      "print one table of these evaluated result directories beside the paper's Table 3");
+      "print one table of these evaluated result directories beside the paper's Table 3")(
+      "trajectory", po::value<std::string>(),
+      "only score this `timestamp x y phi` file against the truth's poses (--truth)");
   po::positional_options_description positional;
   po::variables_map vm;
   if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
@@ -607,6 +674,20 @@ int runEval(const Args& args) {
       throw UsageError("--summary takes only result directories");
     }
     return runSummary(vm["summary"].as<std::vector<std::string>>(), std::cout);
+  }
+  if (vm.count("trajectory")) {
+    if (!vm.count("truth") || vm.count("scenario") || vm.count("result")) {
+      throw UsageError("--trajectory takes --truth only");
+    }
+    const std::string file = vm["trajectory"].as<std::string>();
+    const std::string truth = truthPrefix(vm["truth"].as<std::string>()) + ".gt.txt";
+    const TrajectoryError e = trajectoryError(readPoses(file), readPoses(truth));
+    std::cout << "dynamap eval: " << file << " against " << truth << ": " << e.matched
+              << " poses scored, " << e.unmatched << " without truth; ATE RMSE position "
+              << num(e.rmse_xy_m, 4, "n/a") << " m, heading "
+              << num(e.rmse_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg, max position error "
+              << num(e.max_xy_m, 3, "n/a") << " m\n";
+    return kExitOk;
   }
   for (const char* k : {"scenario", "truth", "result"}) {
     if (!vm.count(k)) throw UsageError(std::string("--") + k + " is required");

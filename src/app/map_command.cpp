@@ -24,7 +24,8 @@ const char* const kUsage =
     "CARMEN log, plain or gz, told apart by content) and writes into DIR: static.png,\n"
     "dynamic.png, overlay.png, static.gridmap.gz and dynamic.gridmap.gz (MRPT),\n"
     "static.pgm + static.yaml (ROS map_server), config.ini (the effective configuration),\n"
-    "summary.json, the object table: objects.csv, events.csv, tracks.csv, and mrpt_plain.png:\n"
+    "summary.json, poses.txt (timestamp x y phi: the pose each scan was mapped at), the\n"
+    "object table: objects.csv, events.csv, tracks.csv, and mrpt_plain.png:\n"
     "the plain MRPT grid of the same scans, compared with S in summary.json.\n"
     "--frames-every N also writes frames/NNNNNN.png (the overlay after scan N, 2N, ...) and,\n"
     "when ffmpeg is installed, timelapse.mp4.";
@@ -89,7 +90,8 @@ int runMap(const Args& args) {
       "the .ini configuration (default: built-in defaults = config/default.ini)")(
       "out,o", po::value<std::string>()->default_value("out"), "output directory (created)")(
       "poses", po::value<std::string>(),
-      "pose source: auto | simplemap | ground_truth | odometry (overrides [input] poses)")(
+      "pose source: auto | simplemap | ground_truth | odometry | scan_matching\n"
+      "(odometry corrected against the static map; overrides [input] poses)")(
       "no-baseline",
       "do not build the plain MRPT grid of the same scans (mrpt_plain.png and the\n"
       "comparison in summary.json); saves its time")(
@@ -177,8 +179,13 @@ int runMap(const Args& args) {
   if (verbose || stderrIsTerminal()) {
     const auto& c = mapper.counts();
     std::cerr << "dynamap map: " << c.scans_used << " scans mapped from " << input << " ("
-              << toString(source->poseSource()) << " poses) in " << std::fixed
+              << mapper.poseSourceName(*source) << " poses) in " << std::fixed
               << std::setprecision(2) << wall_s << " s; outputs in " << out_dir << "/\n";
+    if (mapper.scanMatching()) {
+      const ScanMatchCounts& m = mapper.scanMatchCounts();
+      std::cerr << "dynamap map: scan matching corrected " << m.matched << " scans; "
+                << m.fallbackTotal() << " kept their odometry pose (see summary.json)\n";
+    }
     if (baseline) {
       const PlainComparison cmp = comparePlain(mapper.map(), baseline->grid());
       std::cerr << "dynamap map: plain MRPT grid of the same scans (" << baseline_s
