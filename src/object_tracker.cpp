@@ -254,21 +254,23 @@ ShapeEstimate estimateShape(const std::vector<CellXY>& cells, double res,
     y0 = std::min(y0, ys.back());
     y1 = std::max(y1, ys.back());
   }
-  // The widest extent: a convex object's visible outline is as wide as the object.
-  double width = 0;
-  if (cells.size() <= 400) {
-    for (std::size_t i = 0; i < xs.size(); ++i) {
-      for (std::size_t j = i + 1; j < xs.size(); ++j) {
-        width = std::max(width, std::hypot(xs[i] - xs[j], ys[i] - ys[j]));
-      }
+  // The widest extent: a convex object's visible outline is as wide as the object. It joins
+  // two corners of the cells' convex hull.
+  double width2 = 0;
+  const std::vector<std::size_t> hull = convexHull(xs, ys, xs.size());
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    for (std::size_t j = i + 1; j < hull.size(); ++j) {
+      const double dx = xs[hull[i]] - xs[hull[j]], dy = ys[hull[i]] - ys[hull[j]];
+      width2 = std::max(width2, dx * dx + dy * dy);
     }
-  } else {
-    width = std::hypot(x1 - x0, y1 - y0);
   }
+  const double width = std::sqrt(width2);
   s.thickness = minorAxisStd(xs, ys);
   s.length = width;
   Circle c{};
-  if (static_cast<int>(cells.size()) >= options.min_fit_cells && fitCircle(xs, ys, c)) {
+  // (No circle for what is wider than any object: a wall.)
+  if (static_cast<int>(cells.size()) >= options.min_fit_cells && width <= options.max_size &&
+      fitCircle(xs, ys, c)) {
     double d = 2 * c.r;
     // Sane: as wide as the cells at least (less a cell of quantisation), not much wider than
     // them (a short arc of a huge circle is a wall, not a cylinder), within max_size.
@@ -724,6 +726,8 @@ void ObjectTracker::refresh(Track& tr, double res) {
   for (const CellKey k : tr.cells) xy.push_back(cellOf(k));
   ShapeEstimate s = estimateShape(xy, res, options_);
   // The hit points in its cells, when there are enough, measure it to the centimetre.
+  // A cluster longer than any object (a wall seen off by localisation) needs no finer size.
+  if (s.length > options_.max_size) tr.points.clear();
   for (auto it = tr.points.begin(); it != tr.points.end();) {
     if (std::binary_search(tr.cells.begin(), tr.cells.end(), it->second.cell)) {
       ++it;
@@ -977,7 +981,9 @@ void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& vie
     if (it == owner_.end() || !cells_.count(cell)) continue;
     const CellKey b =
         cellKey(static_cast<int>(std::floor(x / bin)), static_cast<int>(std::floor(y / bin)));
-    auto& points = tracks_[it->second].points;
+    Track& tr = tracks_[it->second];
+    if (tr.shape.length > options_.max_size) continue;  // a wall: no finer size needed
+    auto& points = tr.points;
     const bool fresh = points.find(b) == points.end();
     points[b] = {x, y, r * std::abs(view.step), cell};
     if (fresh) fed.insert(it->second);  // a point where none was: the arc grew
