@@ -33,6 +33,12 @@ namespace {
 thread_local std::size_t t_allocation_limit = 0;  // 0: no limit
 }  // namespace
 
+// The operator delete below frees what the operator new below took from malloc; GCC cannot see
+// that the two are replaced together and warns about every call it inlines.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
 void* operator new(std::size_t n) {
   if (t_allocation_limit != 0 && n > t_allocation_limit) throw std::bad_alloc();
   if (void* p = std::malloc(n != 0 ? n : 1)) return p;
