@@ -106,6 +106,14 @@ bool Mapper::process(const ScanRecord& rec) {
   const PathPoint p{pose2.x(), pose2.y()};
   if (path_.empty() || std::hypot(p.x - path_.back().x, p.y - path_.back().y) >= path_step_) {
     path_.push_back(p);
+    // Hours of driving must not grow memory without bound: past kMaxPathPoints, every other
+    // point goes and the step doubles (at 5 cm, the first halving comes after 3.3 km).
+    if (path_.size() > kMaxPathPoints) {
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < path_.size(); i += 2) path_[kept++] = path_[i];
+      path_.resize(kept);
+      path_step_ *= 2;
+    }
   }
   return true;
 }

@@ -18,6 +18,7 @@
 #include <limits>
 #include <regex>
 
+#include "dynamap/mapping_run.h"
 #include "fuzz_entries.h"
 #include "test_util.h"
 
@@ -371,6 +372,34 @@ TEST(Faults, AForeignRecordWhereAScanWasExpectedIsSkippedAndCounted) {
 
 // Every input the fuzzers once crashed on (or that guards a fixed fault), through the same entry
 // point: they must all return. Under `make test-asan` the sanitizers check them too.
+// Hours of driving: the path kept for the pictures is thinned, never grown without bound.
+TEST(Faults, TheRobotsPathStaysBoundedHoweverLongTheRun) {
+  MapConfig config;
+  config.objects.enabled = false;
+  Mapper mapper(config);
+  // Back and forth along a 4 m line, 6 cm a scan (one path point each): 140,000 points' worth.
+  const auto scan = test::makeScan({1.0f, 1.0f}, 0.1);
+  const std::size_t steps = 2 * Mapper::kMaxPathPoints + 9000;
+  for (std::size_t i = 0; i < steps; ++i) {
+    const std::size_t k = i % 132;
+    const double x = 0.06 * static_cast<double>(k < 66 ? k : 132 - k);
+    ScanRecord rec;
+    rec.index = i;
+    rec.t = 0.1 * static_cast<double>(i);
+    rec.pose = CPose2D(x, 0, 0);
+    rec.scan = scan;
+    ASSERT_TRUE(mapper.process(rec)) << "scan " << i;
+  }
+  EXPECT_LE(mapper.path().size(), Mapper::kMaxPathPoints);
+  EXPECT_GT(mapper.path().size(), Mapper::kMaxPathPoints / 4);
+  // Still the path: its points lie on the line driven.
+  for (const PathPoint& p : mapper.path()) {
+    EXPECT_NEAR(p.y, 0.0, 1e-9);
+    EXPECT_GE(p.x, -1e-9);
+    EXPECT_LE(p.x, 3.96 + 1e-9);
+  }
+}
+
 TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
   const std::vector<std::pair<std::string, void (*)(const std::uint8_t*, std::size_t)>> targets = {
       {"scenario", fuzz::scenarioInput},

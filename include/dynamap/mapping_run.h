@@ -72,7 +72,10 @@ class Mapper {
   const DynamicGridMap& map() const { return map_; }
   DynamicGridMap& map() { return map_; }
   const ObjectTracker& tracker() const { return tracker_; }
+  /// The robot's path, a point every 5 cm (the cell size if larger); past kMaxPathPoints points
+  /// it is thinned to every other point and the step doubles, so its memory stays bounded.
   const std::vector<PathPoint>& path() const { return path_; }
+  static constexpr std::size_t kMaxPathPoints = 1 << 16;
   const RunCounts& counts() const { return counts_; }
   const MapConfig& config() const { return config_; }
   /// The pose each scan was processed at, in input order (the poses of poses.txt).
