@@ -75,6 +75,16 @@ IniFile IniFile::fromText(const std::string& text, const std::string& name) {
   return IniFile(cfg, name);
 }
 
+IniFile IniFile::fromMrptSection(const mrpt::config::CConfigFileBase& source,
+                                 const std::string& section, const std::string& as_section) {
+  std::vector<std::string> keys;
+  source.getAllKeys(section, keys);
+  std::ostringstream ini;
+  ini << "[" << as_section << "]\n";
+  for (const auto& k : keys) ini << k << " = " << source.read_string(section, k, "") << "\n";
+  return fromText(ini.str(), "configuration [" + section + "]");
+}
+
 bool IniFile::hasSection(const std::string& section) const {
   return cfg_->sectionExists(section);
 }

@@ -26,6 +26,10 @@ class IniFile {
   static IniFile fromFile(const std::string& path);
   /// Parses `text`; `name` stands for the file in error messages.
   static IniFile fromText(const std::string& text, const std::string& name);
+  /// Section `section` of an MRPT configuration, renamed `as_section`: how the options structs'
+  /// MRPT-style loadFromConfigFile() goes through the same strict checks as an ini file.
+  static IniFile fromMrptSection(const mrpt::config::CConfigFileBase& source,
+                                 const std::string& section, const std::string& as_section);
 
   const std::string& name() const { return name_; }
   const mrpt::config::CConfigFileBase& mrptConfig() const { return *cfg_; }
