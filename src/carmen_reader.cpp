@@ -219,6 +219,7 @@ CarmenLine parseCarmenLine(const std::string& line) {
     return out;
   }
   const std::vector<std::string> f = splitFields(line);
+  if (f.empty()) return out;  // only separators splitFields knows and the test above does not
   out.type = f[0];
   if (out.type == "FLASER" || out.type == "RLASER") {
     out.laser = parseOldLaser(f);

@@ -372,6 +372,9 @@ TEST(CarmenParse, LineTypes) {
   EXPECT_DOUBLE_EQ(odom.odometry->t, 12.5);  // ipc, not logger
   EXPECT_EQ(parseCarmenLine("  # comment").type, "#");
   EXPECT_EQ(parseCarmenLine(" \t").type, "");
+  // Vertical tabs and form feeds separate fields too: a line of them is blank, not a crash.
+  EXPECT_EQ(parseCarmenLine("\v").type, "");
+  EXPECT_EQ(parseCarmenLine(" \f\v ").type, "");
   const CarmenLine sync = parseCarmenLine("SYNC tag 1 h 1");
   EXPECT_EQ(sync.type, "SYNC");
   EXPECT_FALSE(sync.laser || sync.odometry || sync.param);
