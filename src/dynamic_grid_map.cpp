@@ -203,10 +203,14 @@ bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
   for (double v : {robot_pose.x(), robot_pose.y(), robot_pose.yaw()}) {
     if (!std::isfinite(v)) return false;
   }
-  last_stats_.skip_reason = "beyond max_map_size_m";
 
   const mrpt::poses::CPose2D sensor = computeBeams(scan, robot_pose);  // 1. where beams end
-  if (!growToFit(sensor)) return false;                                // 2. room for them
+  if (!std::isfinite(sensor.x()) || !std::isfinite(sensor.y()) || !std::isfinite(sensor.phi())) {
+    last_stats_.skip_reason = "sensor pose not finite";  // the scan's own mount, from a file
+    return false;
+  }
+  last_stats_.skip_reason = "beyond max_map_size_m";
+  if (!growToFit(sensor)) return false;  // 2. room for them
   m_likelihoodCacheOutDated = true;
   nextStamp();      // 3. a fresh scan mark
   applyHits();      // 4. hits first

@@ -148,6 +148,16 @@ TEST(DynamicGridMap, BadRangesAreCountedAndNotInserted) {
   EXPECT_EQ(m.lastInsertStats().beams_used, 1u);
 }
 
+TEST(DynamicGridMap, AScanWhoseOwnMountIsNotFiniteIsSkippedWithItsReason) {
+  DynamicGridMap m = emptyMap();
+  auto scan = makeScan({0.5f}, 0.01);
+  scan->sensorPose = CPose3D(std::nan(""), 0, 0, 0, 0, 0);  // as a corrupt file may state it
+  EXPECT_FALSE(m.insertObservation(*scan, kRobot));
+  ASSERT_NE(m.lastInsertStats().skip_reason, nullptr);
+  EXPECT_STREQ(m.lastInsertStats().skip_reason, "sensor pose not finite");
+  EXPECT_EQ(staticRow(m, 49, 56), std::vector<int>(8, 0));
+}
+
 TEST(DynamicGridMap, SensorPoseOnTheRobotIsApplied) {
   DynamicGridMap m = emptyMap();
   auto scan = makeScan({0.5f}, 0.01);
