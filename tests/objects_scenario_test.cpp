@@ -2,7 +2,7 @@
 // (<name>.objects.csv, <name>.moves.csv), with ground-truth poses: the library is run directly
 // (openScanSource + Mapper), not the command, to keep the test fast.
 //
-// Floors (issue 4): as many object ids as objects that moved; after each move the object is
+// Floors: as many object ids as objects that moved; after each move the object is
 // reported at its new place (within 0.25 m) under the id it had before; no object is reported
 // where only walls are (farther than 0.5 m from every true object and person position).
 

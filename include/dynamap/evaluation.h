@@ -1,5 +1,5 @@
 #pragma once
-// Evaluation against the simulator's ground truth (issue 5, docs/evaluation.md): the paper's
+// Evaluation against the simulator's ground truth (docs/evaluation.md): the paper's
 // Table 3 per object move, detection latency, and static/dynamic cell accuracy of the final maps.
 //
 // Pure functions over plain data, no I/O: the `dynamap eval` command reads the truth files, the

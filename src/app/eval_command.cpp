@@ -1,4 +1,4 @@
-// dynamap eval: a mapping result scored against the simulator's ground truth (issue 5).
+// dynamap eval: a mapping result scored against the simulator's ground truth.
 // The metric definitions live in src/evaluation.cpp and docs/evaluation.md; this file reads the
 // files, runs the mapper and the plain MRPT baseline when needed, and writes the reports.
 
