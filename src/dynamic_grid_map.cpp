@@ -311,7 +311,7 @@ void DynamicGridMap::applyHits() {
 
 namespace {
 // Incidence below 1 degree: the neighbour's end point lies on another surface (a depth jump).
-const double kMinSurfaceSin = std::sin(M_PI / 180.0);
+const double kMinSurfaceSin2 = std::sin(M_PI / 180.0) * std::sin(M_PI / 180.0);
 }  // namespace
 
 void DynamicGridMap::guardSurfaces() {
@@ -320,10 +320,10 @@ void DynamicGridMap::guardSurfaces() {
   // A beam meeting the surface at incidence a crosses a band of width surface_guard over
   // surface_guard / sin(a) of its length, a beam at right angles over surface_guard: the
   // difference is left unfreed, so a beam grazing a wall stops freeing before it reaches the
-  // wall's cells. Of the two neighbours the one that gives the
-  // steeper incidence wins, so the edge of an object in front of a wall (where one neighbour
-  // lies on another surface) keeps the short guard of the surface the beam did hit, and a
-  // neighbour seen at less than a degree is a depth jump, not this surface.
+  // wall's cells. Of the two neighbours the one that gives the steeper incidence wins, so the edge
+  // of an object in front of a wall (where one neighbour lies on another surface) keeps the short
+  // guard of the surface the beam did hit, and a neighbour seen at less than a degree is a depth
+  // jump, not this surface.
   const double guard = options_.surface_guard;
   const double guard_max = std::max(guard, options_.surface_guard_max);
   const std::size_t n = beams_.size();
@@ -331,17 +331,19 @@ void DynamicGridMap::guardSurfaces() {
     Beam& b = beams_[i];
     b.stop = b.reach;
     if (b.kind != kBeamHit || guard <= 0.0) continue;
-    double sin_a = -1.0;  // none known
+    double sin2 = -1.0;  // sin(a)^2 of the steeper neighbour; none known yet
     for (const std::size_t j : {i - 1, i + 1}) {
       if (j >= n || beams_[j].kind != kBeamHit) continue;  // i - 1 wraps round at i = 0
       const double tx = beams_[j].end_x - b.end_x, ty = beams_[j].end_y - b.end_y;
-      const double len = std::hypot(tx, ty);
-      if (len <= 0.0) continue;
-      const double s = std::abs(b.cos * ty - b.sin * tx) / len;
+      const double len2 = tx * tx + ty * ty;
+      if (len2 <= 0.0) continue;
+      const double cross = b.cos * ty - b.sin * tx;
+      const double s2 = cross * cross / len2;
       // Nearly along the beam: a depth jump to another surface, not the one hit.
-      if (s >= kMinSurfaceSin) sin_a = std::max(sin_a, s);
+      if (s2 >= kMinSurfaceSin2) sin2 = std::max(sin2, s2);
     }
-    if (sin_a <= 0.0) continue;  // no neighbour on the surface: as at right angles
+    if (sin2 <= 0.0) continue;  // no neighbour on the surface: as at right angles
+    const double sin_a = std::sqrt(sin2);
     // What the slant adds to the band's crossing, compared with a beam at right angles (whose
     // cells up to the end cell are freed, as MRPT does).
     const double along = std::min(guard_max, guard / std::max(sin_a, 1e-6) - guard);
