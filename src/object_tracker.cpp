@@ -37,8 +37,8 @@ void ObjectOptions::load(const IniFile& ini) {
   ini.requireKnownKeys(
       s, {"enabled", "join_distance", "min_cells", "min_size", "max_size", "confirm_scans",
           "settle_size", "wall_hug_distance", "thin_width", "thin_length", "size_tolerance",
-          "reappear_distance", "follow_margin", "move_distance", "defer_s", "match_time_scale",
-          "match_distance_scale", "min_fit_cells"});
+          "reappear_distance", "follow_margin", "move_distance", "defer_s", "min_unseen_s",
+          "match_time_scale", "match_distance_scale", "min_fit_cells"});
   enabled = ini.getBool(s, "enabled", enabled);
   join_distance = ini.getDouble(s, "join_distance", join_distance);
   min_cells = static_cast<int>(ini.getInt(s, "min_cells", min_cells));
@@ -54,6 +54,7 @@ void ObjectOptions::load(const IniFile& ini) {
   follow_margin = ini.getDouble(s, "follow_margin", follow_margin);
   move_distance = ini.getDouble(s, "move_distance", move_distance);
   defer_s = ini.getDouble(s, "defer_s", defer_s);
+  min_unseen_s = ini.getDouble(s, "min_unseen_s", min_unseen_s);
   match_time_scale = ini.getDouble(s, "match_time_scale", match_time_scale);
   match_distance_scale = ini.getDouble(s, "match_distance_scale", match_distance_scale);
   min_fit_cells = static_cast<int>(ini.getInt(s, "min_fit_cells", min_fit_cells));
@@ -77,6 +78,7 @@ void ObjectOptions::validate(const std::string& src) const {
   requireRange(src, "follow_margin", follow_margin, 0.0, 5.0, "in [0, 5] m");
   requireRange(src, "move_distance", move_distance, 1e-9, 10.0, "in (0, 10] m");
   requireRange(src, "defer_s", defer_s, 0.0, 1e6, "in [0, 1e6] s");
+  requireRange(src, "min_unseen_s", min_unseen_s, 0.0, 1e6, "in [0, 1e6] s");
   requireRange(src, "match_time_scale", match_time_scale, 1e-9, 1e9, "> 0 s");
   requireRange(src, "match_distance_scale", match_distance_scale, 1e-9, 1e9, "> 0 m");
   requireRange(src, "min_fit_cells", min_fit_cells, 3, 1000, "in [3, 1000]");
@@ -106,6 +108,8 @@ void ObjectOptions::writeIni(std::ostream& out) const {
       << "move_distance = " << move_distance << " ; [m] drift that counts as a move\n"
       << "defer_s = " << defer_s
       << " ; [s] max wait for an out-of-sight place to tell a move from a new object\n"
+      << "min_unseen_s = " << min_unseen_s
+      << " ; [s] an object seen in place more recently did not move unseen\n"
       << "match_time_scale = " << match_time_scale
       << " ; [s] identity: cost of time since vanishing\n"
       << "match_distance_scale = " << match_distance_scale
@@ -898,6 +902,10 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
     if (!absent && dist <= options_.reappear_distance) continue;
     PlaceView pv = PlaceView::NotInView;
     if (!absent) pv = viewOf(view, o.shape.cx, o.shape.cy, 0.5 * o.shape.size, margin);
+    // Seen in place a moment ago and not seen gone since: it did not cross the room unseen.
+    if (!absent && pv != PlaceView::SeenFree && t - o.last_seen_t < options_.min_unseen_s) {
+      continue;
+    }
     cands.push_back({o.shape.cx, o.shape.cy, o.shape.size, absent, o.vanished_t, pv});
     ids.push_back(o.id);
   }

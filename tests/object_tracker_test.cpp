@@ -345,6 +345,26 @@ TEST(ObjectTracker, TwoSimilarSizesKeepTheirIds) {
   EXPECT_EQ(stayed.n_moves, 0);
 }
 
+// An object of the same size appearing behind the robot seconds after the first was seen in
+// place is another object: the first cannot have crossed the room unseen (min_unseen_s).
+int objectsAfterATwinAppearsBehind(double min_unseen_s) {
+  ObjectOptions o;
+  o.min_unseen_s = min_unseen_s;
+  TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
+  const mrpt::poses::CPose2D ahead(0.0, 0.0, 0.0), behind(0.0, 0.0, M_PI);
+  run.steps(10, ahead, {});
+  run.steps(15, ahead, {{1.0, 0.5, 0.4}});
+  run.steps(10, behind, {{1.0, 0.5, 0.4}});  // it is out of view now
+  run.steps(15, behind, {{1.0, 0.5, 0.4}, {-1.5, 0.0, 0.4}});
+  return static_cast<int>(run.tracker.objects().size());
+}
+
+TEST(ObjectTracker, AnObjectSeenInPlaceSecondsAgoIsNotTakenForOneThatMovedUnseen) {
+  EXPECT_EQ(objectsAfterATwinAppearsBehind(30.0), 2);
+  // Without the rule the twin is taken for the first object, moved.
+  EXPECT_EQ(objectsAfterATwinAppearsBehind(0.0), 1);
+}
+
 TEST(ObjectOptions, StrictLoadNamesKeyAndFile) {
   ObjectOptions o;
   EXPECT_NO_THROW(o.load(IniFile::fromText("[objects]\nmin_cells = 3\n", "a.ini")));

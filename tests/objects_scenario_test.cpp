@@ -197,6 +197,10 @@ void expectIdentityFloors(const Figures& f) {
 TEST(ObjectsScenario, ArenaIdentityFloor) {
   expectIdentityFloors(scenario("arena"));
 }
+// People walk about while objects are moved.
+TEST(ObjectsScenario, PeopleIdentityFloor) {
+  expectIdentityFloors(scenario("people"));
+}
 // The corridors: objects jump while the robot is elsewhere and are found a lap later.
 TEST(ObjectsScenario, CorridorsIdentityFloor) {
   expectIdentityFloors(scenario("corridors"));

@@ -67,6 +67,10 @@ struct ObjectOptions {
   /// the hit points 0 is right on the bundled scenarios; a wait lets a detection linger as a
   /// ghost of a place the object has since left; [0, 1e6]
   double defer_s = 0.0;
+  /// [s] a present object seen at its place less than this long ago (and not seen gone) is no
+  /// candidate for a move made out of sight: it did not cross the room in that time. 10 to 60
+  /// all keep the bundled scenarios' floors; 0 takes any such object for moved; [0, 1e6]
+  double min_unseen_s = 30.0;
   double match_time_scale = 60.0;  ///< [s] among similar sizes, a vanishing this much older costs
                                    ///< as much as size_tolerance; > 0
   double match_distance_scale =
