@@ -31,7 +31,10 @@ const char* const kKeys[] = {"occupied_threshold",
                              "icp_threshold_dist_m",
                              "icp_smallest_threshold_dist_m",
                              "icp_max_iterations",
-                             "min_constraint"};
+                             "min_constraint",
+                             "search_xy_m",
+                             "search_deg",
+                             "search_offset_cost"};
 
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr int kNormalRadius = 3;    // [cells] a wall's normal comes from a 7x7 neighbourhood
@@ -151,6 +154,103 @@ mrpt::poses::CPose2D keepConstrained(const mrpt::poses::CPose2D& guess,
 
 }  // namespace
 
+namespace {
+
+/// The pose near `guess` (within search_xy_m in x and y, on the grid's cells, and search_deg in
+/// heading, in 0.5 degree steps) whose scan points lie best on S's occupied cells: each point
+/// scores 1 on an occupied cell, falling linearly to 0 at three cells away, through a distance
+/// field (two-pass chamfer) of the window the search can reach. A prior on the offset keeps
+/// flat directions (a straight corridor) and small gains from wall texture at the guess. Cost: the
+/// window's cells plus (headings x offsets x at most 120 points) lookups, never the map's size.
+mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
+                                      const std::vector<mrpt::math::TPoint2D>& pts,
+                                      const mrpt::poses::CPose2D& guess,
+                                      const ScanMatchOptions& o) {
+  const double res = map.getResolution();
+  const int shift = static_cast<int>(std::floor(o.search_xy_m / res + 1e-9));
+  const int turns = static_cast<int>(std::floor(o.search_deg / 0.5 + 1e-9));
+  if ((shift == 0 && turns == 0) || pts.empty()) return guess;
+  // Up to 120 points, evenly through the scan.
+  std::vector<mrpt::math::TPoint2D> sample;
+  const std::size_t stride = pts.size() / 120 + 1;
+  for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
+  // The window: every cell a point can reach, plus the field's reach.
+  constexpr int kReach = 3;
+  double x0 = guess.x(), x1 = x0, y0 = guess.y(), y1 = y0;
+  for (const auto& p : sample) {
+    const mrpt::math::TPoint2D g = guess + p;
+    x0 = std::min(x0, g.x), x1 = std::max(x1, g.x), y0 = std::min(y0, g.y), y1 = std::max(y1, g.y);
+  }
+  const int sx = static_cast<int>(map.getSizeX()), sy = static_cast<int>(map.getSizeY());
+  const int margin = shift + kReach + 2;
+  const int cx0 = std::max(0, map.x2idx(x0) - margin),
+            cx1 = std::min(sx - 1, map.x2idx(x1) + margin);
+  const int cy0 = std::max(0, map.y2idx(y0) - margin),
+            cy1 = std::min(sy - 1, map.y2idx(y1) + margin);
+  if (cx1 <= cx0 || cy1 <= cy0) return guess;
+  const int w = cx1 - cx0 + 1, h = cy1 - cy0 + 1;
+  // Distance (in cells) to the nearest occupied cell, chamfer 1 / 1.4, capped at kReach + 1.
+  const float far = static_cast<float>(kReach + 1);
+  std::vector<float> dist(static_cast<std::size_t>(w) * h, far);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (map.staticOccupancy(cx0 + x, cy0 + y) > o.occupied_threshold) dist[x + y * w] = 0.0f;
+    }
+  }
+  auto relax = [&](int x, int y, int dx, int dy, float cost) {
+    const int nx = x + dx, ny = y + dy;
+    if (nx < 0 || ny < 0 || nx >= w || ny >= h) return;
+    float& d = dist[x + y * w];
+    d = std::min(d, dist[nx + ny * w] + cost);
+  };
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      relax(x, y, -1, 0, 1.0f), relax(x, y, 0, -1, 1.0f);
+      relax(x, y, -1, -1, 1.4f), relax(x, y, 1, -1, 1.4f);
+    }
+  }
+  for (int y = h - 1; y >= 0; --y) {
+    for (int x = w - 1; x >= 0; --x) {
+      relax(x, y, 1, 0, 1.0f), relax(x, y, 0, 1, 1.0f);
+      relax(x, y, 1, 1, 1.4f), relax(x, y, -1, 1, 1.4f);
+    }
+  }
+  std::vector<float> score(dist.size());
+  for (std::size_t i = 0; i < dist.size(); ++i) {
+    score[i] = std::max(0.0f, 1.0f - dist[i] / static_cast<float>(kReach));
+  }
+  // The search. Odometry drifts little from one scan to the next: each cell of offset costs
+  // search_offset_cost points squared, a turn to the search's edge a twentieth of the points.
+  const double turn_prior = 0.05 * static_cast<double>(sample.size());
+  double best = -1e300;
+  int best_t = 0, best_x = 0, best_y = 0;
+  std::vector<int> px(sample.size()), py(sample.size());
+  for (int t = -turns; t <= turns; ++t) {
+    const mrpt::poses::CPose2D turned(guess.x(), guess.y(), guess.phi() + t * 0.5 * kDegToRad);
+    for (std::size_t i = 0; i < sample.size(); ++i) {
+      const mrpt::math::TPoint2D g = turned + sample[i];
+      px[i] = map.x2idx(g.x) - cx0;
+      py[i] = map.y2idx(g.y) - cy0;
+    }
+    for (int dy = -shift; dy <= shift; ++dy) {
+      for (int dx = -shift; dx <= shift; ++dx) {
+        double s = 0;
+        for (std::size_t i = 0; i < sample.size(); ++i) {
+          const int x = px[i] + dx, y = py[i] + dy;
+          if (x >= 0 && y >= 0 && x < w && y < h) s += score[x + y * w];
+        }
+        s -= o.search_offset_cost * (dx * dx + dy * dy) +
+             (turns ? turn_prior * (t * t) / double(turns * turns) : 0.0);
+        if (s > best) best = s, best_t = t, best_x = dx, best_y = dy;
+      }
+    }
+  }
+  return {guess.x() + best_x * res, guess.y() + best_y * res,
+          guess.phi() + best_t * 0.5 * kDegToRad};
+}
+
+}  // namespace
+
 void ScanMatchOptions::load(const IniFile& ini) {
   const std::string s = kSection;
   ini.requireKnownKeys(s, {std::begin(kKeys), std::end(kKeys)});
@@ -168,6 +268,9 @@ void ScanMatchOptions::load(const IniFile& ini) {
       ini.getDouble(s, "icp_smallest_threshold_dist_m", icp_smallest_threshold_dist_m);
   icp_max_iterations = static_cast<int>(ini.getInt(s, "icp_max_iterations", icp_max_iterations));
   min_constraint = ini.getDouble(s, "min_constraint", min_constraint);
+  search_xy_m = ini.getDouble(s, "search_xy_m", search_xy_m);
+  search_deg = ini.getDouble(s, "search_deg", search_deg);
+  search_offset_cost = ini.getDouble(s, "search_offset_cost", search_offset_cost);
   validate(ini.name());
 }
 
@@ -203,6 +306,9 @@ void ScanMatchOptions::validate(const std::string& src) const {
   requireInRange(src, s, "icp_max_iterations", icp_max_iterations, 1, 1000,
                  "an integer in [1, 1000]");
   requireInRange(src, s, "min_constraint", min_constraint, 0.0, 1.0, "within [0, 1]");
+  requireInRange(src, s, "search_xy_m", search_xy_m, 0.0, 2.0, "within [0, 2] m");
+  requireInRange(src, s, "search_deg", search_deg, 0.0, 20.0, "within [0, 20] deg");
+  requireInRange(src, s, "search_offset_cost", search_offset_cost, 0.0, 1000.0, "within [0, 1000]");
 }
 
 void ScanMatchOptions::writeIni(std::ostream& out) const {
@@ -232,7 +338,12 @@ void ScanMatchOptions::writeIni(std::ostream& out) const {
       << " ; [m] ICP stops when its halved distance falls below this\n"
       << "icp_max_iterations = " << icp_max_iterations << " ; ICP's iteration cap\n"
       << "min_constraint = " << min_constraint
-      << " ; pose directions the matched walls constrain less than this keep odometry's value\n";
+      << " ; pose directions the matched walls constrain less than this keep odometry's value\n"
+      << "search_xy_m = " << search_xy_m
+      << " ; [m] grid search around the guess before ICP, in x and y (0: off)\n"
+      << "search_deg = " << search_deg << " ; [deg] ...and in heading\n"
+      << "search_offset_cost = " << search_offset_cost
+      << " ; score (scan points) a search pose loses per cell^2 of offset\n";
 }
 
 void ScanMatchOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
@@ -268,10 +379,13 @@ ScanMatchResult ScanMatcher::match(const DynamicGridMap& map,
     r.fallback_reason = "too few scan points";
     return r;
   }
-  // 2. The occupied cells of S around where those points fall, seen from the guess.
+  // 2. The occupied cells of S around where those points fall, seen from the guess, moved to
+  //    the best pose of a grid search first: drift larger than the overlap gate is caught.
+  const mrpt::poses::CPose2D odometry = guess;
+  const mrpt::poses::CPose2D start = correlativeGuess(map, pts, guess, o);
   mrpt::maps::CSimplePointsMap reference;
   std::vector<Eigen::Vector2d> normals;
-  mapPoints(map, pts, guess, o, reference, normals);
+  mapPoints(map, pts, start, o, reference, normals);
   r.map_points = reference.size();
   if (r.map_points < static_cast<std::size_t>(o.min_map_points)) {
     r.fallback_reason = "too few map points";
@@ -286,7 +400,7 @@ ScanMatchResult ScanMatcher::match(const DynamicGridMap& map,
   mrpt::maps::CSimplePointsMap scan_map;
   std::vector<mrpt::math::TPoint2D> overlap;
   for (const auto& p : pts) {
-    const mrpt::math::TPoint2D g = guess + p;
+    const mrpt::math::TPoint2D g = start + p;
     if (reference.kdTreeClosestPoint2DsqrError(static_cast<float>(g.x), static_cast<float>(g.y)) <=
         overlap_d2) {
       overlap.push_back(p);
@@ -316,7 +430,7 @@ ScanMatchResult ScanMatcher::match(const DynamicGridMap& map,
   io.skip_quality_calculation = true;
   io.corresponding_points_decimation = 1;  // every point: few points, and the pose must be exact
   mrpt::slam::CICP::TReturnInfo info;
-  const auto pdf = icp.Align(&reference, &scan_map, guess, info);
+  const auto pdf = icp.Align(&reference, &scan_map, start, info);
   const mrpt::poses::CPose2D matched = pdf->getMeanVal();
   r.icp_iterations = info.nIterations;
 
@@ -340,9 +454,9 @@ ScanMatchResult ScanMatcher::match(const DynamicGridMap& map,
     fisher += j * j.transpose();
   }
   r.inlier_ratio = static_cast<double>(r.inliers) / static_cast<double>(pts.size());
-  const mrpt::poses::CPose2D corrected = keepConstrained(guess, matched, fisher, r, o);
-  r.correction_m = std::hypot(corrected.x() - guess.x(), corrected.y() - guess.y());
-  r.correction_rad = std::abs(mrpt::math::wrapToPi(corrected.phi() - guess.phi()));
+  const mrpt::poses::CPose2D corrected = keepConstrained(start, matched, fisher, r, o);
+  r.correction_m = std::hypot(corrected.x() - odometry.x(), corrected.y() - odometry.y());
+  r.correction_rad = std::abs(mrpt::math::wrapToPi(corrected.phi() - odometry.phi()));
   if (!std::isfinite(matched.x()) || !std::isfinite(matched.y()) || !std::isfinite(matched.phi()) ||
       r.correction_m > o.max_correction_m || r.correction_rad > o.max_correction_deg * kDegToRad) {
     r.fallback_reason = "correction too large";

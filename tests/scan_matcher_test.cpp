@@ -98,6 +98,20 @@ TEST(ScanMatcher, RecoversAKnownOffsetWithinHalfACellAtFiveCentimetres) {
   expectRecovered(0.05, 0.025);
 }
 
+// Drift beyond the overlap gate (0.1 m), turned too: the grid search before ICP starts it from
+// the best pose within search_xy_m and search_deg.
+TEST(ScanMatcher, DriftBeyondTheOverlapGateIsRecovered) {
+  const auto world = room();
+  const DynamicGridMap map = mappedRoom(world);
+  const CPose2D truth(0.3, -0.2, 0.15);
+  const auto scan = scanFrom(world, truth);
+  const CPose2D guess = truth + CPose2D(0.11, -0.09, 1.5 * kDeg);  // 0.14 m
+  const ScanMatchResult r = ScanMatcher({}, kRange).match(map, *scan, guess);
+  ASSERT_TRUE(r.matched) << r.fallback_reason;
+  EXPECT_LT(std::hypot(r.pose.x() - truth.x(), r.pose.y() - truth.y()), 0.025);
+  EXPECT_LT(headingError(r.pose, truth), 0.5 * kDeg);
+}
+
 TEST(ScanMatcher, AMovedObjectInViewDoesNotPullThePose) {
   const auto world = room();
   const DynamicGridMap map = mappedRoom(world);  // S knows the middle of the room as free

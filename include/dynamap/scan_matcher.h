@@ -66,6 +66,18 @@ struct ScanMatchOptions : public mrpt::config::CLoadableOptions {
   /// (a wall constrains the pose across itself only; 1 = every inlier's normal along that
   /// direction). Along a straight corridor ICP's answer is noise, odometry is better; in [0, 1].
   double min_constraint = 0.05;
+  /// [m] Before ICP, the guess is moved to the best of a grid search this far around it in x
+  /// and y (in steps of one cell) against a distance field of S's occupied cells: drift larger
+  /// than overlap_distance_m (a corridor's far wall coming back into view) is caught; 0 = off;
+  /// in [0, 2].
+  double search_xy_m = 0.3;
+  /// [deg] ...and this far in heading, in steps of 0.5 deg; in [0, 20].
+  double search_deg = 2.0;
+  /// What a search pose loses, in scan points on S, per squared cell of offset from the guess:
+  /// odometry drifts little from one scan to the next, so texture along a wall must not pull
+  /// the pose along it. On corridors_odom 2 to 20 give 0.12-0.14 m of error, 0.5 diverges;
+  /// in [0, 1000].
+  double search_offset_cost = 5.0;
 
   /// Strict load: unknown keys, malformed numbers and out-of-range values throw ConfigError.
   void load(const IniFile& ini);
