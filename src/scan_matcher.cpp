@@ -348,13 +348,7 @@ void ScanMatchOptions::writeIni(std::ostream& out) const {
 
 void ScanMatchOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                           const std::string& section) {
-  // Re-read through the strict reader so MRPT-style callers get the same checks.
-  std::vector<std::string> keys;
-  source.getAllKeys(section, keys);
-  std::ostringstream ini;
-  ini << "[" << kSection << "]\n";
-  for (const auto& k : keys) ini << k << " = " << source.read_string(section, k, "") << "\n";
-  load(IniFile::fromText(ini.str(), "configuration [" + section + "]"));
+  load(IniFile::fromMrptSection(source, section, kSection));  // the same checks as an ini file
 }
 
 void ScanMatchOptions::dumpToTextStream(std::ostream& out) const {
