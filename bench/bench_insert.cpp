@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "dynamap/dynamic_grid_map.h"
-#include "dynamap/scan_source.h"
+#include "dynamap/input/open_source.h"
+#include "dynamap/mapping/dynamic_grid_map.h"
 
 namespace {
 

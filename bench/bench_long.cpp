@@ -18,8 +18,8 @@
 #include <sstream>
 #include <string>
 
-#include "dynamap/config_check.h"
-#include "dynamap/mapping_run.h"
+#include "dynamap/base/ini.h"
+#include "dynamap/pipeline/mapper.h"
 #include "dynamap/sim/scenario.h"
 #include "dynamap/sim/simulator.h"
 

@@ -7,10 +7,10 @@
 #include <exception>
 #include <string>
 
-#include "dynamap/carmen_reader.h"
-#include "dynamap/config_check.h"
-#include "dynamap/mapping_run.h"
-#include "dynamap/scan_source.h"
+#include "dynamap/base/ini.h"
+#include "dynamap/input/carmen_reader.h"
+#include "dynamap/input/open_source.h"
+#include "dynamap/pipeline/mapper.h"
 #include "dynamap/sim/scenario.h"
 
 namespace dynamap::fuzz {

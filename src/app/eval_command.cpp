@@ -16,10 +16,14 @@
 #include <sstream>
 
 #include "cli.h"
-#include "dynamap/config_check.h"
-#include "dynamap/evaluation.h"
-#include "dynamap/map_outputs.h"
-#include "dynamap/mapping_run.h"
+#include "dynamap/base/ini.h"
+#include "dynamap/evaluation/evaluation.h"
+#include "dynamap/input/open_source.h"
+#include "dynamap/input/pose_file.h"
+#include "dynamap/outputs/map_outputs.h"
+#include "dynamap/outputs/run_outputs.h"
+#include "dynamap/outputs/tables.h"
+#include "dynamap/pipeline/mapper.h"
 #include "dynamap/sim/scenario.h"
 
 namespace dynamap::app {
@@ -164,25 +168,9 @@ std::vector<TrackRow> readTracks(const std::string& path) {
   return rows;
 }
 
-/// `timestamp x y phi` lines (poses.txt, <name>.gt.txt); '%' and '#' start comment lines.
+/// `timestamp x y phi` lines (poses.txt, <name>.gt.txt), sorted by time.
 std::vector<TimedPose> readPoses(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open");
-  std::vector<TimedPose> poses;
-  std::string line;
-  for (std::size_t n = 1; std::getline(in, line); ++n) {
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '%' || line[first] == '#') continue;
-    std::istringstream fields(line);
-    std::string tok[4];
-    double v[4];
-    for (int k = 0; k < 4; ++k) {
-      if (!(fields >> tok[k]) || !parseDouble(tok[k], v[k])) {
-        throw InputError(path + ":" + std::to_string(n) + ": expected 'timestamp x y phi'");
-      }
-    }
-    poses.push_back({v[0], v[1], v[2], v[3]});
-  }
+  std::vector<TimedPose> poses = readPoseFile(path);
   std::stable_sort(poses.begin(), poses.end(),
                    [](const TimedPose& a, const TimedPose& b) { return a.t < b.t; });
   return poses;

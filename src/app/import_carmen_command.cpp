@@ -16,7 +16,7 @@
 #include <optional>
 
 #include "commands.h"
-#include "dynamap/carmen_reader.h"
+#include "dynamap/input/carmen_reader.h"
 
 namespace dynamap::app {
 

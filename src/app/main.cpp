@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
-#include "dynamap/config_check.h"
+#include "dynamap/base/ini.h"
 
 namespace {
 

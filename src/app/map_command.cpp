@@ -8,10 +8,13 @@
 #include <memory>
 
 #include "cli.h"
-#include "dynamap/carmen_reader.h"
-#include "dynamap/config_check.h"
-#include "dynamap/map_outputs.h"
-#include "dynamap/mapping_run.h"
+#include "dynamap/base/ini.h"
+#include "dynamap/input/open_source.h"
+#include "dynamap/outputs/map_outputs.h"
+#include "dynamap/outputs/render.h"
+#include "dynamap/outputs/run_outputs.h"
+#include "dynamap/outputs/tables.h"
+#include "dynamap/pipeline/mapper.h"
 
 namespace dynamap::app {
 namespace {
@@ -158,7 +161,7 @@ int runMap(const Args& args) {
     last_t = rec.t;
     if (baseline) {  // timed on its own, so both runs' speeds can be reported
       const auto t0 = std::chrono::steady_clock::now();
-      baseline->insert(rec);
+      baseline->insert(*rec.scan, rec.pose);
       baseline_time += std::chrono::steady_clock::now() - t0;
     }
     tracks.append(rec.index, rec.t, mapper.tracker());

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "dynamap/config_check.h"
+#include "dynamap/base/ini.h"
 #include "dynamap/sim/world.h"
 
 namespace dynamap::sim {

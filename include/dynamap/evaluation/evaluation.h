@@ -1,0 +1,213 @@
+#pragma once
+// Evaluation against the simulator's ground truth (docs/evaluation.md): the paper's
+// Table 3 per object move, detection latency, and static/dynamic cell accuracy of the final maps.
+//
+// Pure functions over plain data, no I/O: the `dynamap eval` command reads the truth files, the
+// tracker's tracks.csv and the gridmaps into these structs, and the tests write them by hand.
+// Undefined figures (a percentage of nothing, the median of no latency) are NaN.
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dynamap/base/pose_track.h"
+#include "dynamap/sim/world.h"
+
+namespace dynamap {
+
+// --- inputs ----------------------------------------------------------------------------------
+
+/// One row of <name>.objects.csv: where a movable object or a person was at one scan.
+struct TruthRow {
+  std::size_t scan_index = 0;
+  double t = 0;  ///< simulated seconds
+  sim::BodyKind kind = sim::BodyKind::Object;
+  int id = 0;
+  double x = 0, y = 0;
+  double diameter = 0;
+  int hits = 0;  ///< beams of that scan whose first surface was this body
+};
+
+/// One row of <name>.moves.csv.
+struct TruthMove {
+  int move_id = 0;
+  int object_id = 0;
+  double t_start = 0, t_end = 0;  ///< simulated seconds
+  sim::Vec2 from, to;
+};
+
+/// One row of the tracker's tracks.csv. Only scan_index is used to line rows up with the truth
+/// (the truth's own time of that scan is used for latency), so `t` may be in any time base.
+struct TrackRow {
+  std::size_t scan_index = 0;
+  double t = 0;
+  int object_id = 0;
+  double cx = 0, cy = 0;
+  double size_m = 0;
+  double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+};
+
+/// The thresholds of the definitions; the defaults are the issue's.
+struct EvalOptions {
+  double min_match_radius_m = 0.25;  ///< a row matches a body within max(this, diameter)
+  int min_visible_hits = 3;          ///< beams on the object at its new place to call it visible
+  double detect_window_s = 10;       ///< detection must come this soon after visibility
+  double static_distance_m = 0.5;    ///< farther than this from every body: not a real object
+  double place_tolerance_m = 1e-3;   ///< the truth's position "is" the move's target within this
+};
+
+// --- object level ------------------------------------------------------------------------------
+
+/// A true body: movable object or person, by the scenario's number.
+struct BodyKey {
+  sim::BodyKind kind = sim::BodyKind::Object;
+  int id = 0;
+  bool operator<(const BodyKey& o) const { return kind != o.kind ? kind < o.kind : id < o.id; }
+  bool operator==(const BodyKey& o) const { return kind == o.kind && id == o.id; }
+};
+
+/// A tracker id and the body it matched most often (ties: objects before people, lower id).
+struct IdAssignment {
+  int track_id = 0;
+  std::size_t rows = 0;     ///< rows of this id in tracks.csv
+  std::size_t matches = 0;  ///< of them, rows matching `body`; 0: matched nothing, unassigned
+  BodyKey body;
+  std::size_t far_rows = 0;    ///< rows farther than static_distance_m from every body
+  bool static_object = false;  ///< far_rows for most (> half) of its rows
+};
+
+/// What became of one move.
+struct MoveResult {
+  int move_id = 0, object_id = 0;
+  bool visible = false;  ///< false: never seen at its new place (not scored)
+  std::size_t visible_scan = 0;
+  double visible_t = 0;
+  bool matched = false;       ///< some row matched the object at its new place in the window
+  bool correct = false;       ///< ... and one of them carried an id assigned to the object
+  bool wrong_id = false;      ///< ... a matching row's id is assigned to another body
+  bool double_match = false;  ///< at a window scan: two ids on the object, or an id on two bodies
+  std::size_t first_correct_scan = 0;
+  double latency_s = 0;  ///< first correct row's time - visible_t (when correct)
+  std::size_t latency_scans = 0;
+  bool sizeError() const { return wrong_id || double_match; }
+  bool notDetected() const { return visible && !matched; }
+};
+
+struct LatencyStats {
+  std::size_t count = 0;
+  double median_s = 0, max_s = 0;  ///< NaN when count is 0
+  double median_scans = 0, max_scans = 0;
+};
+
+struct ObjectScores {
+  std::vector<MoveResult> moves;  ///< by move id
+  std::vector<IdAssignment> ids;  ///< by tracker id
+  std::size_t visible = 0;        ///< moves that became visible
+  std::size_t correct = 0;        ///< correctly detected
+  std::size_t not_detected = 0;
+  std::size_t size_errors = 0;        ///< moves with a size estimation error (may also be correct)
+  std::size_t static_as_objects = 0;  ///< tracker ids that are mostly far from every body
+  LatencyStats latency;
+};
+
+/// Matches, in the definitions' sense: the row's centre within max(min radius, diameter) of the
+/// body's centre.
+bool rowMatches(const TrackRow& row, const TruthRow& body, const EvalOptions& options);
+/// Distance from the row's centre to the body's disc (0 inside it).
+double distanceToBody(const TrackRow& row, const TruthRow& body);
+/// Median of `v` (the mean of the two middle values for an even count); NaN when empty.
+double median(std::vector<double> v);
+
+/// Scores every move of `moves` and every tracker id of `tracks` against the truth `rows`.
+/// Throws std::invalid_argument when a track row names a scan the truth does not have.
+ObjectScores evaluateObjects(const std::vector<TruthRow>& rows, const std::vector<TruthMove>& moves,
+                             const std::vector<TrackRow>& tracks, const EvalOptions& options = {});
+
+// --- cell level --------------------------------------------------------------------------------
+
+/// A grid's geometry, MRPT's convention: cell (ix, iy) covers [x_min + ix·res, x_min + (ix+1)·res)
+/// × [y_min + iy·res, ...); cells are stored row by row, index ix + iy·size_x.
+struct GridGeometry {
+  double x_min = 0, y_min = 0;
+  double resolution = 0.05;
+  int size_x = 0, size_y = 0;
+  std::size_t cells() const { return static_cast<std::size_t>(size_x) * size_y; }
+  std::size_t index(int ix, int iy) const { return static_cast<std::size_t>(iy) * size_x + ix; }
+};
+
+using CellMask = std::vector<std::uint8_t>;  ///< one flag per cell, GridGeometry's order
+
+/// The true cells on a grid (see docs/evaluation.md).
+struct CellTruth {
+  CellMask static_cells;   ///< cells a wall covers
+  CellMask dynamic_cells;  ///< covered by a person, or an object from its first move, no wall
+  CellMask world_at_end;   ///< walls and every body at the last scan of the truth
+};
+
+/// Cells whose closed square the segment touches.
+void rasteriseSegment(const sim::Segment& s, const GridGeometry& g, CellMask& mask);
+/// Cells whose square overlaps a wall pixel of the image's grid (interiors overlap).
+void rasteriseWallGrid(const sim::WallGrid& walls, const GridGeometry& g, CellMask& mask);
+/// Cells whose square overlaps the open disc.
+void rasteriseDisc(sim::Vec2 centre, double radius, const GridGeometry& g, CellMask& mask);
+
+/// The truth of `world` and of the bodies in `rows` (moves give each object's first move).
+CellTruth cellTruth(const sim::StaticWorld& world, const std::vector<TruthRow>& rows,
+                    const std::vector<TruthMove>& moves, const GridGeometry& g);
+
+/// SA/DA/AA/HA of one static map, in percent.
+struct CellScores {
+  std::size_t static_cells = 0, static_kept = 0;     ///< observed static truth; of them kept
+  std::size_t dynamic_cells = 0, dynamic_clear = 0;  ///< observed dynamic truth; of them clear
+  double sa = 0, da = 0, aa = 0, ha = 0;
+};
+
+/// Scores a static map given as P(occupied) per cell, over the `observed` cells only.
+CellScores scoreStaticMap(const std::vector<float>& s_occ, const CellTruth& truth,
+                          const CellMask& observed, const GridGeometry& g);
+
+/// Precision and recall of occupied cells (percent), with the SA rule's one-cell tolerance: a
+/// predicted cell is right when a true cell is it or a 4-neighbour, a true cell is found when a
+/// predicted cell is it or a 4-neighbour.
+struct PrecisionRecall {
+  std::size_t predicted = 0, predicted_right = 0;
+  std::size_t truth = 0, truth_found = 0;
+  double precision = 0, recall = 0;
+};
+PrecisionRecall scoreOccupied(const CellMask& predicted, const CellMask& truth,
+                              const CellMask& observed, const GridGeometry& g);
+
+/// S ∪ D as occupied cells: S P(occ) > 0.5 or D P(occ) > object_threshold.
+CellMask unionOccupied(const std::vector<float>& s_occ, const std::vector<float>& d_occ,
+                       double object_threshold);
+
+/// Cells observed at least once: some layer's P(occ) is off the 0.5 prior.
+CellMask observedCells(const std::vector<const std::vector<float>*>& layers);
+
+// --- trajectory level ------------------------------------------------------------------------
+
+/// Absolute trajectory error of an estimate against the truth.
+struct TrajectoryError {
+  std::size_t matched = 0;    ///< estimated poses with a truth pose at their timestamp
+  std::size_t unmatched = 0;  ///< estimated poses without one (not scored)
+  double rmse_xy_m = 0;       ///< RMSE of the position error; NaN when nothing matched
+  double rmse_phi_rad = 0;    ///< RMSE of the heading error (wrapped to [-pi, pi])
+  double max_xy_m = 0;        ///< largest position error
+};
+
+/// Pairs each estimated pose with the truth pose of the same timestamp (within
+/// `time_tolerance_s`; `truth` sorted by time) and scores them. The estimate is first anchored
+/// at the truth: its first matched pose is moved onto the truth's, and every other pose with it
+/// (a rigid SE(2) transform), so an estimate in its own frame (a SLAM run starting at the
+/// origin) is scored like one in the truth's frame; an estimate that starts on the truth, as
+/// dynamap's do, is unchanged.
+TrajectoryError trajectoryError(const std::vector<TimedPose>& estimate,
+                                const std::vector<TimedPose>& truth,
+                                double time_tolerance_s = 1e-3);
+
+/// √(a·b) and 2ab/(a+b); NaN when either is NaN, 0 when both are 0.
+double geometricMean(double a, double b);
+double harmonicMean(double a, double b);
+
+}  // namespace dynamap

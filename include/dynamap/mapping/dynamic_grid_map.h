@@ -1,0 +1,188 @@
+#pragma once
+// DynamicGridMap: Wolf & Sukhatme's static map S and dynamic map D in one MRPT grid.
+//
+// The base COccupancyGridMap2D's own cells are S, so every MRPT tool that takes a grid (images,
+// saving, likelihoods, localisation) works on the static map. D is a second layer of the same
+// geometry and cell type, kept aligned with S whenever the grid grows. Both store MRPT's int8
+// log-odds of being FREE (16 units per nat): a larger cell value means "more likely free".
+//
+// One pass over each 2D scan updates both layers with the inverse sensor model conditioned on
+// the cell's static state before the scan (DESIGN.md's table): hits are applied first, then the
+// free space, and every cell is updated at most once per scan, so a hit in a cell beats a miss
+// in the same cell.
+//
+// Free space is the area the scan swept: the wedge between two adjacent beams is free up to the
+// shorter of the two ranges less one cell (filled row by row, each cell once), and each beam
+// frees the cells it crosses beyond that (MRPT's ray, from where the wedges stop covering it
+// to its end cell). Near the sensor, where hundreds of beams cross the same cells, each cell is
+// touched once; at depth edges and for lone beams it is exactly MRPT's ray.
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "dynamap/mapping/dynamic_map_options.h"
+#include "dynamap/mapping/polygon_fill.h"
+
+namespace dynamap {
+
+/// What the last scan did, for summaries and the object tracker.
+struct ScanInsertStats {
+  bool inserted = false;  ///< false: see skip_reason
+  /// Why the scan was not inserted: "not horizontal", "no usable beam", "pose not finite",
+  /// "beyond max_map_size_m"; nullptr when it was.
+  const char* skip_reason = nullptr;
+  std::uint32_t beams_used = 0;  ///< beams that updated at least one cell
+  std::uint32_t beams_bad = 0;   ///< NaN, infinite or negative ranges (not inserted)
+  std::uint32_t hit_cells = 0;   ///< distinct cells updated as hits
+  std::uint32_t free_cells = 0;  ///< distinct cells updated as crossed
+};
+
+class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
+ public:
+  using cellType = mrpt::maps::COccupancyGridMap2D::cellType;
+
+  /// An empty map of the options' resolution; it grows to fit what is inserted.
+  explicit DynamicGridMap(const DynamicMapOptions& options = {},
+                          const InsertionOptions& insertion = {}, float x_min = -10.f,
+                          float x_max = 10.f, float y_min = -10.f, float y_max = 10.f);
+
+  const DynamicMapOptions& options() const { return options_; }
+  const InsertionOptions& insertion() const { return insertion_; }
+
+  /// Grows S and D together, keeping every cell's content (hides the base's non-virtual one).
+  void resizeGrid(float new_x_min, float new_x_max, float new_y_min, float new_y_max,
+                  float new_cells_default_value = 0.5f, bool additionalMargin = true) noexcept;
+
+  // --- the dynamic layer -------------------------------------------------------------------
+  /// P(occupied) of D at a cell; 0.5 outside the grid.
+  float dynamicOccupancy(int cx, int cy) const;
+  /// P(occupied) of S at a cell (1 - getCell()); 0.5 outside the grid.
+  float staticOccupancy(int cx, int cy) const;
+  /// S's state that conditions the model: Free when P(occ) < free_threshold.
+  bool isStaticFree(int cx, int cy) const;
+  /// D cell above object_threshold.
+  bool isObjectCell(int cx, int cy) const;
+  bool isObjectIndex(std::size_t index) const { return dyn_[index] < object_cell_; }
+  /// Raw D cells, row by row like getRawMap().
+  const std::vector<cellType>& dynamicRaw() const { return dyn_; }
+
+  /// Linear indices (x + y * getSizeX()) of the D cells that crossed object_threshold, either
+  /// way, during the last insertion. Valid until the next insertion or resize.
+  const std::vector<std::uint32_t>& changedObjectCells() const { return changed_; }
+  const ScanInsertStats& lastInsertStats() const { return last_stats_; }
+
+  /// Counts over the whole grid (O(cells): for summaries, not per scan).
+  struct CellCounts {
+    std::size_t static_occupied = 0;   ///< S P(occ) > 0.5
+    std::size_t static_free = 0;       ///< S P(occ) < free_threshold
+    std::size_t dynamic_occupied = 0;  ///< D above object_threshold
+  };
+  CellCounts countCells() const;
+
+  /// The integer cell values the model uses (exposed for tests and tools).
+  struct Deltas {
+    int s_hit_notfree, s_hit_free, s_miss, d_hit_free, d_hit_notfree, d_miss;
+  };
+  const Deltas& deltas() const { return deltas_; }
+  cellType freeThresholdCell() const { return free_cell_; }
+  cellType objectThresholdCell() const { return object_cell_; }
+
+ private:
+  bool internal_insertObservation(
+      const mrpt::obs::CObservation& obs,
+      const std::optional<const mrpt::poses::CPose3D>& robotPose = std::nullopt) override;
+  void internal_clear() override;
+
+  // The per-scan steps of insertScan, in order.
+  bool insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
+                  const mrpt::poses::CPose3D& robot_pose);
+  mrpt::poses::CPose2D computeBeams(const mrpt::obs::CObservation2DRangeScan& scan,
+                                    const mrpt::poses::CPose3D& robot_pose);
+  /// False (nothing grown) when the scan would take the grid past max_map_size_m.
+  bool growToFit(const mrpt::poses::CPose2D& sensor);
+  void nextStamp();
+  void applyHits();
+  void sweepFreeArea(const mrpt::poses::CPose2D& sensor);
+  void traceBeamTails(const mrpt::poses::CPose2D& sensor);
+  void guardSurfaces();
+  void planWedges();
+  /// Re-aligns D and the scan stamps with S after any change of S's geometry.
+  void syncLayers();
+  bool hitInFreeSpace(std::size_t index) const;
+  void applyHit(std::size_t index, bool in_free_space);
+  /// The miss update with everything it needs in locals: cells are int8, which may alias any
+  /// member, so a loop over members would reload them at every cell.
+  struct MissKernel {
+    cellType* s;
+    cellType* d;
+    std::uint32_t* stamp;
+    const cellType* miss_s;
+    const cellType* miss_d;
+    std::uint32_t mark;
+    cellType object_cell;
+    std::vector<std::uint32_t>* changed;
+    std::uint32_t freed;
+    /// Updates cell `i` as crossed, unless this scan already updated it.
+    inline void visit(std::size_t i) {
+      if (stamp[i] == mark) return;
+      stamp[i] = mark;
+      const cellType before = d[i];
+      s[i] = miss_s[static_cast<std::uint8_t>(s[i])];
+      d[i] = miss_d[static_cast<std::uint8_t>(before)];
+      // A miss only ever lowers D's P(occ): only an object cell can change state.
+      if (before < object_cell && d[i] >= object_cell)
+        changed->push_back(static_cast<std::uint32_t>(i));
+      ++freed;
+    }
+  };
+  MissKernel missKernel();
+  void noteChange(std::size_t index, cellType before);
+
+  DynamicMapOptions options_;
+  InsertionOptions insertion_;
+  Deltas deltas_{};
+  cellType free_cell_ = 0;    // S cell >= this <=>  P(occ) < free_threshold
+  cellType object_cell_ = 0;  // D cell < this  <=>  P(occ) > object_threshold
+  cellType d_floor_ = 0;      // D stays within [d_floor_, d_ceiling_]: d_max and d_min
+  cellType d_ceiling_ = 0;
+
+  std::vector<cellType> dyn_;
+  std::vector<std::uint32_t> stamp_;  // scan number that last updated each cell
+  std::uint32_t scan_stamp_ = 0;
+  // Geometry D and stamp_ were laid out for.
+  float layer_x_min_ = 0, layer_y_min_ = 0;
+  std::uint32_t layer_size_x_ = 0, layer_size_y_ = 0;
+
+  std::vector<std::uint32_t> changed_;
+  ScanInsertStats last_stats_;
+  std::array<cellType, 256> miss_s_{}, miss_d_{};  // a miss's update, by the cell's bits
+
+  // Per-scan scratch, kept to avoid reallocations.
+  enum BeamKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
+  struct Beam {
+    double cos = 1, sin = 0;  // direction in the map frame
+    float reach = 0;          // [m] how far the beam reaches (0: not used)
+    float stop = 0;           // [m] how far it frees space: reach less the surface guard
+    float end_x = 0, end_y = 0;
+    BeamKind kind = kBeamNone;
+    double covered = 0;  // [m] the swept wedges free this beam's line up to here
+  };
+  struct Wedge {
+    std::size_t first, last;  // the beams bounding it
+    double radius;            // [m] free up to here
+  };
+  static constexpr std::size_t kWedgeBeams = 8;  // beam gaps per wedge
+  std::vector<Beam> beams_;
+  std::vector<std::pair<std::size_t, bool>> hits_;  // cell, S Free there before the scan
+  std::vector<Wedge> wedges_;
+  std::vector<GridPoint> polygon_;
+  PolygonFillScratch fill_scratch_;
+};
+
+/// The int8 log-odds-of-free step for an observation of occupancy probability p (MRPT's scale).
+int logOddsFreeStep(double p_occupied);
+
+}  // namespace dynamap

@@ -1,0 +1,39 @@
+#pragma once
+// The baseline a user gets without dynamap: a plain MRPT COccupancyGridMap2D built from the same
+// scans and poses, at the same resolution and with the same insertion options, and how dynamap's
+// static map S differs from it.
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <cstddef>
+
+#include "dynamap/mapping/dynamic_grid_map.h"
+
+namespace dynamap {
+
+class PlainGrid {
+ public:
+  PlainGrid(const DynamicMapOptions& map, const InsertionOptions& insertion);
+  /// MRPT's own insertion of `scan` taken from robot pose `pose`.
+  void insert(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& pose);
+  const mrpt::maps::COccupancyGridMap2D& grid() const { return grid_; }
+
+ private:
+  mrpt::maps::COccupancyGridMap2D grid_;
+};
+
+/// Cell counts over S's grid, each S cell compared with the plain grid's cell at its centre.
+struct PlainComparison {
+  /// The plain grid holds it occupied (P(occ) > 0.5) and S holds it Free: something that moved,
+  /// smeared into the plain map and kept out of S.
+  std::size_t plain_occupied_static_free = 0;
+  /// S holds it occupied and the plain grid does not.
+  std::size_t static_occupied_plain_not = 0;
+  std::size_t both_occupied = 0;
+};
+PlainComparison comparePlain(const DynamicGridMap& map,
+                             const mrpt::maps::COccupancyGridMap2D& plain);
+
+}  // namespace dynamap

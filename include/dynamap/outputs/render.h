@@ -1,0 +1,54 @@
+#pragma once
+// Pictures of the maps, rendered headlessly into MRPT images (north up: row 0 is the grid's
+// largest y). static and dynamic pictures have one pixel per cell; the overlay is scaled up by
+// an integer factor so that labels stay legible on small maps.
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/img/TColor.h>
+
+#include <vector>
+
+#include "dynamap/mapping/dynamic_grid_map.h"
+#include "dynamap/objects/object_tracker.h"
+#include "dynamap/pipeline/robot_path.h"
+
+namespace dynamap {
+
+/// An occupancy grid (S, or a plain MRPT grid) in grey levels (white free, black occupied,
+/// grey unknown), one pixel per cell, 1 channel.
+mrpt::img::CImage renderStatic(const mrpt::maps::COccupancyGridMap2D& map);
+/// D alone: white where D holds nothing, shades of red growing with D's P(occ) above 0.5, and
+/// S's occupied cells in light grey for context. One pixel per cell.
+mrpt::img::CImage renderDynamic(const DynamicGridMap& map);
+
+/// The integer scale that makes a grid of `size_x` cells at least `min_width` pixels wide
+/// (capped at 8; 1 for grids already that wide).
+int overlayScale(unsigned size_x, unsigned min_width = 800);
+
+/// The window of the grid a picture shows: cells [cx0, cx1) x [cy0, cy1), `scale` px per cell.
+struct View {
+  int cx0 = 0, cy0 = 0, cx1 = 0, cy1 = 0;
+  int scale = 1;
+};
+/// The cells S has observed (any cell off the prior) with `margin` cells around them, clipped to
+/// the grid, at the scale overlayScale gives its width; the whole grid if nothing is observed.
+View observedView(const DynamicGridMap& map, int margin = 20);
+
+/// S in grey levels, D cells above object_threshold in red, the robot's path as a thin blue line,
+/// and, given `objects`, each present object's box and circle with a label "<id>: <size> m".
+/// Shows the observed part of the grid (observedView), not the unknown margins around it.
+mrpt::img::CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
+                                const std::vector<TrackedObject>* objects = nullptr);
+
+/// Draws each present object of `objects` on an image of `map` in `view`: its box, its
+/// estimated outline, and its label on a filled background, kept inside the image.
+void drawObjects(mrpt::img::CImage& img, const DynamicGridMap& map, const View& view,
+                 const std::vector<TrackedObject>& objects);
+
+/// Pixel of a world point in an image of `map` drawn in `view` (north up).
+struct Pixel {
+  int x, y;
+};
+Pixel toPixel(const DynamicGridMap& map, const View& view, double x, double y);
+
+}  // namespace dynamap

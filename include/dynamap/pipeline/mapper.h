@@ -1,0 +1,112 @@
+#pragma once
+// One mapping run: configuration, the per-scan step, and the outputs of `dynamap map`.
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dynamap/input/scan_source.h"
+#include "dynamap/localization/scan_matcher.h"
+#include "dynamap/mapping/dynamic_grid_map.h"
+#include "dynamap/objects/object_tracker.h"
+#include "dynamap/pipeline/robot_path.h"
+
+namespace dynamap {
+
+class IniFile;
+
+/// Everything `dynamap map` reads from its .ini file.
+struct MapConfig {
+  DynamicMapOptions map;
+  InsertionOptions insertion;
+  ObjectOptions objects;
+  ScanMatchOptions scan_matching;       ///< used when poses is ScanMatching
+  PoseSource poses = PoseSource::Auto;  ///< [input] poses
+
+  /// Strict: unknown sections or keys, bad values: ConfigError naming file, section and key.
+  static MapConfig load(const IniFile& ini);
+  /// The effective configuration as a reloadable .ini.
+  void writeIni(std::ostream& out) const;
+};
+
+/// Counts of a run, for summary.json.
+struct RunCounts {
+  std::size_t scans_used = 0;
+  std::map<std::string, std::size_t> scans_skipped;  ///< by reason
+  std::uint64_t beams_bad = 0;                       ///< NaN / inf / negative ranges
+  std::size_t time_backwards = 0;                    ///< scans older than the one before
+  double first_t = 0, last_t = 0;
+};
+
+/// Counts of the scan matching, for summary.json (all zero without it).
+struct ScanMatchCounts {
+  std::size_t matched = 0;
+  std::map<std::string, std::size_t> fallbacks;  ///< scans placed by odometry, by reason
+  double sum_correction_m = 0;                   ///< over matched scans
+  double max_correction_m = 0;
+  std::size_t fallbackTotal() const;
+};
+
+/// The pose a scan was inserted at (poses.txt).
+struct UsedPose {
+  double t = 0;
+  mrpt::poses::CPose2D pose;
+};
+
+/// The per-scan step: insert into S and D, update the object table, extend the robot's path.
+class Mapper {
+ public:
+  explicit Mapper(const MapConfig& config);
+
+  /// Inserts one scan; false when it was skipped (counted by reason). With scan matching, the
+  /// scan's pose is the odometry increment since the last scan applied to the last pose used,
+  /// then corrected by matching the scan against S.
+  bool process(const ScanRecord& rec);
+
+  const DynamicGridMap& map() const { return map_; }
+  DynamicGridMap& map() { return map_; }
+  const ObjectTracker& tracker() const { return tracker_; }
+  /// The robot's path (RobotPath: decimated and bounded).
+  const std::vector<PathPoint>& path() const { return path_.points(); }
+  const RunCounts& counts() const { return counts_; }
+  const MapConfig& config() const { return config_; }
+  /// The pose each scan was processed at, in input order (the poses of poses.txt).
+  const std::vector<UsedPose>& usedPoses() const { return used_poses_; }
+  bool scanMatching() const { return matcher_ != nullptr; }
+  const ScanMatchCounts& scanMatchCounts() const { return match_counts_; }
+  /// The pose source of this run: the source's, or scan_matching.
+  std::string poseSourceName(const ScanSource& source) const;
+
+ private:
+  /// The odometry pose of `rec` turned into the pose to insert it at (scan matching).
+  mrpt::poses::CPose2D correctPose(const ScanRecord& rec);
+
+  MapConfig config_;
+  DynamicGridMap map_;
+  ObjectTracker tracker_;
+  RobotPath path_;
+  RunCounts counts_;
+  bool have_t_ = false;
+  std::vector<UsedPose> used_poses_;
+  std::unique_ptr<ScanMatcher> matcher_;  // null unless poses is ScanMatching
+  ScanMatchCounts match_counts_;
+  bool have_pose_ = false;
+  mrpt::poses::CPose2D last_odometry_, last_pose_;
+};
+
+/// What happened to the input: empty `fault` means it was read to its end.
+struct InputOutcome {
+  std::string fault;
+};
+
+/// Feeds every scan of `source` to `mapper`, calling `on_scan` after each with the record as
+/// mapped (its pose the one used, corrected when scan matching). An InputError from
+/// the source ends the loop and is returned as the outcome's fault: everything before it stays.
+InputOutcome runMapping(ScanSource& source, Mapper& mapper,
+                        const std::function<void(const ScanRecord&)>& on_scan = {});
+
+}  // namespace dynamap

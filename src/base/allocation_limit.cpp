@@ -1,0 +1,78 @@
+#include "dynamap/base/allocation_limit.h"
+
+#include <mrpt/core/aligned_allocator.h>
+
+#include <cstdlib>
+#include <new>
+
+// The program's replacements of the global operator new and delete (see the header's contract).
+namespace {
+thread_local std::size_t t_allocation_limit = 0;  // 0: no limit
+}  // namespace
+
+// The operator delete below frees what the operator new below took from malloc; GCC cannot see
+// that the two are replaced together and warns about every call it inlines.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
+void* operator new(std::size_t n) {
+  if (t_allocation_limit != 0 && n > t_allocation_limit) throw std::bad_alloc();
+  if (void* p = std::malloc(n != 0 ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) {
+  return ::operator new(n);
+}
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  try {
+    return ::operator new(n);
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t n, const std::nothrow_t& tag) noexcept {
+  return ::operator new(n, tag);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+namespace mrpt {
+// MRPT's scans keep their beams in vectors of mrpt::aligned_allocator_cpp11, which allocate
+// through this libmrpt-core function rather than operator new; this definition takes its place
+// (same behaviour: C++17 aligned_alloc, released by mrpt::aligned_free's free()) and applies the
+// record limit. Its callers do not check for null: a refusal throws.
+void* aligned_malloc(std::size_t size, std::size_t alignment) {
+  if (t_allocation_limit != 0 && size > t_allocation_limit) throw std::bad_alloc();
+  if (alignment != 0 && size % alignment != 0) size = (size / alignment + 1) * alignment;
+  return ::aligned_alloc(alignment, size);
+}
+}  // namespace mrpt
+
+namespace dynamap {
+
+AllocationLimit::AllocationLimit(std::size_t max_bytes) : saved_(t_allocation_limit) {
+  t_allocation_limit = max_bytes;
+}
+
+AllocationLimit::~AllocationLimit() {
+  t_allocation_limit = saved_;
+}
+
+}  // namespace dynamap

@@ -1,0 +1,536 @@
+#include "dynamap/input/carmen_reader.h"
+
+#include <mrpt/core/Clock.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "dynamap/base/ini.h"
+
+namespace dynamap {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr std::size_t kReadBlock = 64 * 1024;
+
+// Fields after an old-format laser's ranges: x y theta odom_x odom_y odom_theta ipc host logger.
+constexpr std::size_t kOldLaserTail = 9;
+// Fields after ROBOTLASER1's remissions: 6 poses, tv rv fwd_safety side_safety turn_axis, ipc
+// host logger.
+constexpr std::size_t kRobotLaserTail = 14;
+
+std::vector<std::string> splitFields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t i = 0;
+  const std::size_t n = line.size();
+  while (i < n) {
+    while (i < n && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    std::size_t j = i;
+    while (j < n && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    if (j > i) fields.emplace_back(line, i, j - i);
+    i = j;
+  }
+  return fields;
+}
+
+/// Reads the fields of one line in order, each failure naming the field.
+class FieldCursor {
+ public:
+  explicit FieldCursor(const std::vector<std::string>& f) : f_(f) {}
+
+  double number(const char* what) {
+    const std::string& s = field(what);
+    double v = 0;
+    if (!parseDouble(s, v)) fail(what, "'" + s + "' is not a finite number");
+    return v;
+  }
+  /// A range: a number that may be nan or inf (an invalid beam, not a bad line).
+  float range() {
+    const std::string& s = field("range");
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size()) fail("range", "'" + s + "' is not a number");
+    return static_cast<float>(v);
+  }
+  std::size_t count(const char* what) {
+    const std::string& s = field(what);
+    long v = 0;
+    if (!parseLong(s, v) || v < 0) fail(what, "'" + s + "' is not a count");
+    return static_cast<std::size_t>(v);
+  }
+  mrpt::math::TPose2D pose(const char* what) {
+    const double x = number(what), y = number(what), phi = number(what);
+    return {x, y, phi};
+  }
+  void skip(std::size_t n) {
+    if (pos_ + n > f_.size()) tooFew("fields");
+    pos_ += n;
+  }
+  std::size_t position() const { return pos_; }
+  std::size_t remaining() const { return f_.size() - pos_; }
+
+  [[noreturn]] void fail(const char* what, const std::string& msg) const {
+    throw CarmenParseError(f_[0] + " field " + std::to_string(pos_) + " (" + what + "): " + msg);
+  }
+
+ private:
+  const std::string& field(const char* what) {
+    if (pos_ >= f_.size()) tooFew(what);
+    return f_[pos_++];
+  }
+  [[noreturn]] void tooFew(const char* what) const {
+    throw CarmenParseError(f_[0] + ": too few fields (" + std::to_string(f_.size()) +
+                           ", ran out reading " + what + ")");
+  }
+  const std::vector<std::string>& f_;
+  std::size_t pos_ = 1;  // field 0 is the message word
+};
+
+void requireFieldCount(const std::vector<std::string>& f, std::size_t expected,
+                       const std::string& why) {
+  if (f.size() == expected) return;
+  throw CarmenParseError(f[0] + ": " + why + " needs " + std::to_string(expected) +
+                         " fields, the line has " + std::to_string(f.size()));
+}
+
+/// ipc_timestamp hostname logger_timestamp: the message's time is the ipc one.
+double timestampTail(FieldCursor& c) {
+  const double ipc = c.number("ipc_timestamp");
+  c.skip(1);  // hostname
+  c.number("logger_timestamp");
+  return ipc;
+}
+
+std::vector<float> readRanges(FieldCursor& c, std::size_t n) {
+  std::vector<float> ranges(n);
+  for (auto& r : ranges) r = c.range();
+  return ranges;
+}
+
+std::size_t beamCount(FieldCursor& c) {
+  const std::size_t n = c.count("num_readings");
+  if (n < 2) c.fail("num_readings", "a scan needs at least 2 beams");
+  return n;
+}
+
+/// FLASER|RLASER num_readings r1..rn x y theta odom_x odom_y odom_theta ipc host logger
+CarmenLaser parseOldLaser(const std::vector<std::string>& f) {
+  FieldCursor c(f);
+  CarmenLaser laser;
+  laser.kind = f[0] == "RLASER" ? CarmenLaserKind::Rear : CarmenLaserKind::Front;
+  const std::size_t n = beamCount(c);
+  requireFieldCount(f, 2 + n + kOldLaserTail, std::to_string(n) + " beams");
+  laser.ranges = readRanges(c, n);
+  laser.pose = c.pose("x y theta");
+  laser.odometry = c.pose("odom_x odom_y odom_theta");
+  laser.t = timestampTail(c);
+  return laser;
+}
+
+/// ROBOTLASER1 laser_type start_angle fov angular_resolution max_range accuracy remission_mode
+/// num_readings r.. num_remissions e.. laser_x y theta robot_x y theta tv rv fwd side turn_axis
+/// ipc host logger
+CarmenLaser parseRobotLaser(const std::vector<std::string>& f) {
+  FieldCursor c(f);
+  CarmenLaser laser;
+  laser.kind = CarmenLaserKind::Robot;
+  c.number("laser_type");
+  laser.start_angle = c.number("start_angle");
+  laser.fov = c.number("field_of_view");
+  laser.angular_resolution = c.number("angular_resolution");
+  if (laser.angular_resolution <= 0) c.fail("angular_resolution", "must be positive");
+  laser.max_range = c.number("maximum_range");
+  if (laser.max_range <= 0) c.fail("maximum_range", "must be positive");
+  c.number("accuracy");
+  c.number("remission_mode");
+  const std::size_t n = beamCount(c);
+  if (c.remaining() < n + 1)
+    requireFieldCount(f, c.position() + n + 1 + kRobotLaserTail, std::to_string(n) + " beams");
+  laser.ranges = readRanges(c, n);
+  const std::size_t m = c.count("num_remissions");
+  requireFieldCount(f, c.position() + m + kRobotLaserTail,
+                    std::to_string(n) + " beams and " + std::to_string(m) + " remissions");
+  for (std::size_t i = 0; i < m; ++i) c.number("remission");
+  laser.laser_pose = c.pose("laser_pose");
+  laser.pose = c.pose("robot_pose");
+  for (const char* w :
+       {"laser_tv", "laser_rv", "forward_safety_dist", "side_safety_dist", "turn_axis"}) {
+    c.number(w);
+  }
+  laser.t = timestampTail(c);
+  return laser;
+}
+
+/// ODOM x y theta tv rv accel ipc host logger
+CarmenOdometry parseOdometry(const std::vector<std::string>& f) {
+  requireFieldCount(f, 10, "ODOM");
+  FieldCursor c(f);
+  CarmenOdometry odo;
+  odo.pose = c.pose("x y theta");
+  odo.tv = c.number("tv");
+  odo.rv = c.number("rv");
+  odo.accel = c.number("accel");
+  odo.t = timestampTail(c);
+  return odo;
+}
+
+double paramNumber(const std::string& name, const std::string& value) {
+  double v = 0;
+  if (!parseDouble(value, v)) {
+    throw CarmenParseError("PARAM " + name + ": '" + value + "' is not a number");
+  }
+  return v;
+}
+
+const std::set<std::string>& knownMessageWords() {
+  static const std::set<std::string> kWords = {
+      "PARAM",     "SYNC",      "ODOM",         "FLASER",      "RLASER",      "LASER3",
+      "LASER4",    "TRUEPOS",   "NEFF",         "ROBOTLASER1", "ROBOTLASER2", "RAWLASER1",
+      "RAWLASER2", "RAWLASER3", "RAWLASER4",    "GPSNMEA",     "GPSNMEAGGA",  "SONAR",
+      "BUMPER",    "SCANMARK",  "POSITIONLASER"};
+  return kWords;
+}
+
+/// The skip reason of a line type, its name cut short so garbage cannot flood the summary.
+std::string typeReason(const std::string& type) {
+  return "line type " + (type.size() > 32 ? type.substr(0, 32) + "..." : type);
+}
+
+}  // namespace
+
+// --- pure parsing ------------------------------------------------------------------------------
+
+CarmenLine parseCarmenLine(const std::string& line) {
+  CarmenLine out;
+  const auto first = line.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos) return out;  // blank
+  if (line[first] == '#') {
+    out.type = "#";
+    return out;
+  }
+  const std::vector<std::string> f = splitFields(line);
+  if (f.empty()) return out;  // only separators splitFields knows and the test above does not
+  out.type = f[0];
+  if (out.type == "FLASER" || out.type == "RLASER") {
+    out.laser = parseOldLaser(f);
+  } else if (out.type == "ROBOTLASER1") {
+    out.laser = parseRobotLaser(f);
+  } else if (out.type == "ODOM") {
+    out.odometry = parseOdometry(f);
+  } else if (out.type == "PARAM") {
+    if (f.size() < 3) throw CarmenParseError("PARAM: needs a name and a value");
+    out.param = std::make_pair(f[1], f[2]);
+  }
+  return out;
+}
+
+bool CarmenParams::applyParam(const std::string& name, const std::string& value) {
+  struct Key {
+    const char* name;
+    std::optional<double> CarmenLaserParams::*field;
+    CarmenLaserParams CarmenParams::*laser;
+  };
+  static const Key kKeys[] = {
+      {"laser_front_laser_fov", &CarmenLaserParams::fov_deg, &CarmenParams::front},
+      {"laser_front_laser_resolution", &CarmenLaserParams::resolution_deg, &CarmenParams::front},
+      {"robot_front_laser_max", &CarmenLaserParams::max_range, &CarmenParams::front},
+      {"robot_frontlaser_offset", &CarmenLaserParams::offset_x, &CarmenParams::front},
+      {"laser_rear_laser_fov", &CarmenLaserParams::fov_deg, &CarmenParams::rear},
+      {"laser_rear_laser_resolution", &CarmenLaserParams::resolution_deg, &CarmenParams::rear},
+      {"robot_rear_laser_max", &CarmenLaserParams::max_range, &CarmenParams::rear},
+      {"robot_rearlaser_offset", &CarmenLaserParams::offset_x, &CarmenParams::rear},
+  };
+  for (const Key& k : kKeys) {
+    if (name != k.name) continue;
+    const double v = paramNumber(name, value);
+    const bool positive_only = k.field != &CarmenLaserParams::offset_x;
+    if (positive_only && v <= 0) {
+      throw CarmenParseError("PARAM " + name + ": " + value + " must be positive");
+    }
+    (this->*k.laser).*k.field = v;
+    return true;
+  }
+  return false;
+}
+
+LaserGeometry laserGeometry(std::size_t beams, const CarmenLaserParams& params,
+                            const CarmenOptions& options) {
+  const bool overridden = options.fov_deg > 0;
+  const double fov = (overridden ? options.fov_deg : params.fov_deg.value_or(180.0)) * kDeg;
+  LaserGeometry g;
+  g.start = -fov / 2;
+  if (!overridden && params.resolution_deg) {
+    g.step = *params.resolution_deg * kDeg;
+  } else {
+    // An odd count has a beam at each end of the fov (181, 361); an even one stops a step short.
+    g.step = fov / static_cast<double>(beams % 2 == 1 ? beams - 1 : beams);
+  }
+  return g;
+}
+
+mrpt::obs::CObservation2DRangeScan::Ptr makeScan(const CarmenLaser& laser,
+                                                 const CarmenParams& params,
+                                                 const CarmenOptions& options) {
+  const std::size_t n = laser.ranges.size();
+  const CarmenLaserParams& lp = laser.kind == CarmenLaserKind::Rear ? params.rear : params.front;
+  LaserGeometry g;
+  mrpt::poses::CPose2D mount;  // the laser's pose on the robot, x forward
+  double max_range = options.default_max_range;
+  if (laser.kind == CarmenLaserKind::Robot) {
+    g = options.fov_deg > 0 ? laserGeometry(n, {}, options)
+                            : LaserGeometry{laser.start_angle, laser.angular_resolution};
+    mount = mrpt::poses::CPose2D(*laser.laser_pose) - mrpt::poses::CPose2D(laser.pose);
+    max_range = laser.max_range;
+  } else {
+    g = laserGeometry(n, lp, options);
+    const double facing = laser.kind == CarmenLaserKind::Rear ? M_PI : 0.0;
+    mount = mrpt::poses::CPose2D(lp.offset_x.value_or(0.0), 0, facing);
+    max_range = lp.max_range.value_or(options.default_max_range);
+  }
+  // MRPT spreads the beams evenly over `aperture`, symmetric about the sensor's x axis: turn the
+  // sensor so that the middle of the beams points where CARMEN says it does.
+  const double aperture = g.step * static_cast<double>(n - 1);
+  const double centre = g.start + aperture / 2;
+
+  auto scan = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
+  scan->sensorLabel = "LASER";
+  scan->timestamp = mrpt::Clock::fromDouble(laser.t);
+  scan->aperture = static_cast<float>(aperture);
+  scan->rightToLeft = true;
+  scan->maxRange = static_cast<float>(max_range);
+  scan->sensorPose = mrpt::poses::CPose3D(mount + mrpt::poses::CPose2D(0, 0, centre));
+  scan->resizeScan(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float r = laser.ranges[i];
+    scan->setScanRange(i, r);
+    scan->setScanRangeValidity(i, std::isfinite(r) && r > 0 && r < scan->maxRange);
+  }
+  return scan;
+}
+
+// --- streaming -------------------------------------------------------------------------------
+
+/// Lines of a plain or gz file, read in blocks, each capped in length.
+struct CarmenReader::LineInput {
+  mrpt::io::CFileGZInputStream in;
+  std::vector<char> buf = std::vector<char>(kReadBlock);
+  std::size_t pos = 0, len = 0;
+  std::size_t line_no = 0;  // of the last line returned
+
+  /// The next line without its end of line; false at the end of the file.
+  bool getline(std::string& line, const std::string& path, std::size_t max_len) {
+    line.clear();
+    bool got_any = false;
+    while (true) {
+      if (pos == len && !refill(path)) {
+        if (got_any) ++line_no;
+        return got_any;
+      }
+      got_any = true;
+      const char* start = buf.data() + pos;
+      const void* nl = std::memchr(start, '\n', len - pos);
+      const std::size_t take = nl ? static_cast<const char*>(nl) - start : len - pos;
+      if (line.size() + take > max_len) {
+        throw InputError(path + ":" + std::to_string(line_no + 1) + ": line longer than " +
+                         std::to_string(max_len) + " bytes");
+      }
+      line.append(start, take);
+      pos += take;
+      if (nl) {
+        ++pos;
+        ++line_no;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        return true;
+      }
+    }
+  }
+
+  bool refill(const std::string& path) {
+    try {
+      len = in.Read(buf.data(), buf.size());
+    } catch (const std::exception& e) {
+      throw InputError(path + ": read error after line " + std::to_string(line_no) + ": " +
+                       e.what());
+    }
+    pos = 0;
+    return len > 0;
+  }
+};
+
+CarmenReader::CarmenReader(const std::string& path, const CarmenOptions& options)
+    : path_(path), options_(options), input_(std::make_unique<LineInput>()) {
+  // MRPT throws (with a backtrace) for a missing file: say it plainly instead.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  std::string error;
+  bool opened = false;
+  try {
+    opened = input_->in.open(path, error);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  if (!opened) throw InputError(path + ": cannot open (" + error + ")");
+  text_size_ = static_cast<double>(uncompressedSize(path));
+}
+
+CarmenReader::~CarmenReader() = default;
+
+double CarmenReader::fractionRead() const {
+  if (text_size_ == 0) return -1.0;
+  return std::min(1.0, static_cast<double>(input_->in.getPosition()) / text_size_);
+}
+
+bool CarmenReader::next(CarmenEvent& out) {
+  std::string line;
+  while (input_->getline(line, path_, options_.max_line_length)) {
+    ++stats_.records;
+    try {
+      if (handleLine(line, out)) return true;
+    } catch (const CarmenParseError& e) {
+      if (!options_.skip_bad_lines) {
+        throw InputError(path_ + ":" + std::to_string(input_->line_no) + ": " + e.what());
+      }
+      skip("bad line");
+    }
+  }
+  return false;
+}
+
+bool CarmenReader::handleLine(const std::string& line, CarmenEvent& out) {
+  CarmenLine parsed = parseCarmenLine(line);
+  if (parsed.param) {
+    if (!params_.applyParam(parsed.param->first, parsed.param->second)) skip("PARAM not used");
+    return false;
+  }
+  if (parsed.odometry) {
+    // The corrected logs hold an ODOM line stamped 0 after each scan: no time, so no odometry.
+    if (parsed.odometry->t == 0) {
+      skip("ODOM with zero timestamp");
+      return false;
+    }
+    last_odometry_ = mrpt::poses::CPose2D(parsed.odometry->pose);
+    out = CarmenEvent{};
+    out.kind = CarmenEvent::Kind::Odometry;
+    out.line = input_->line_no;
+    out.t = parsed.odometry->t;
+    out.odometry = last_odometry_;
+    out.tv = parsed.odometry->tv;
+    out.rv = parsed.odometry->rv;
+    return true;
+  }
+  if (parsed.laser) {
+    const CarmenLaser& laser = *parsed.laser;
+    out = CarmenEvent{};
+    out.kind = CarmenEvent::Kind::Scan;
+    out.line = input_->line_no;
+    out.t = laser.t;
+    out.scan = makeScan(laser, params_, options_);
+    out.pose = mrpt::poses::CPose2D(laser.pose);
+    if (laser.odometry) {
+      out.odometry = mrpt::poses::CPose2D(*laser.odometry);
+    } else {
+      out.odometry = last_odometry_;
+    }
+    ++stats_.scans;
+    return true;
+  }
+  if (parsed.type.empty()) {
+    skip("empty line");
+  } else if (parsed.type == "#") {
+    skip("comment");
+  } else {
+    skip(typeReason(parsed.type));
+  }
+  return false;
+}
+
+// --- detection and the ScanSource --------------------------------------------------------------
+
+bool looksLikeCarmen(const std::string& path) {
+  std::string head(kReadBlock, '\0');
+  try {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;
+    mrpt::io::CFileGZInputStream in;
+    if (!in.open(path)) return false;
+    head.resize(in.Read(head.data(), head.size()));
+  } catch (const std::exception&) {
+    return false;
+  }
+  if (head.empty() || head.find('\0') != std::string::npos) return false;
+  std::size_t pos = 0;
+  while (pos < head.size()) {
+    std::size_t end = head.find('\n', pos);
+    const bool complete = end != std::string::npos;
+    if (!complete) end = head.size();
+    const std::string line = head.substr(pos, end - pos);
+    pos = end + 1;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const auto word_end = line.find_first_of(" \t\r", first);
+    if (word_end == std::string::npos && !complete) return false;  // word cut by the buffer
+    return knownMessageWords().count(line.substr(first, word_end - first)) > 0;
+  }
+  return false;
+}
+
+namespace {
+
+class CarmenSource : public ScanSource {
+ public:
+  CarmenSource(const std::string& path, PoseSource source, const CarmenOptions& options)
+      : reader_(path, options), source_(source) {}
+
+  bool next(ScanRecord& out) override {
+    CarmenEvent e;
+    while (reader_.next(e)) {
+      if (e.kind != CarmenEvent::Kind::Scan) continue;
+      out.index = next_index_++;
+      out.t = e.t;
+      out.scan = e.scan;
+      if (source_ == PoseSource::Odometry) {
+        if (!e.odometry) {
+          throw InputError(path() + ":" + std::to_string(e.line) + ": scan " +
+                           std::to_string(out.index) + " has no odometry (no ODOM line before it)");
+        }
+        out.pose = *e.odometry;
+      } else {
+        out.pose = e.pose;
+      }
+      return true;
+    }
+    return false;
+  }
+  PoseSource poseSource() const override { return source_; }
+  const SourceStats& stats() const override { return reader_.stats(); }
+  const std::string& path() const override { return reader_.path(); }
+  double fractionRead() const override { return reader_.fractionRead(); }
+
+ private:
+  CarmenReader reader_;
+  PoseSource source_;
+  std::size_t next_index_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<ScanSource> openCarmenSource(const std::string& path, PoseSource source,
+                                             const CarmenOptions& options) {
+  if (source == PoseSource::Simplemap) {
+    throw InputError(path + ": a CARMEN log has no simplemap poses (use ground_truth or odometry)");
+  }
+  if (source == PoseSource::Auto) source = PoseSource::GroundTruth;
+  return std::make_unique<CarmenSource>(path, source, options);
+}
+
+}  // namespace dynamap

@@ -1,0 +1,262 @@
+#include "dynamap/input/rawlog_source.h"
+
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+#include "dynamap/base/pose_track.h"
+#include "dynamap/input/mrpt_records.h"
+#include "dynamap/input/pose_file.h"
+
+namespace dynamap {
+namespace {
+
+using mrpt::obs::CObservation2DRangeScan;
+
+/// Streams an MRPT rawlog (either format), one record at a time, resolving each scan's pose by
+/// time from the chosen pose source.
+class RawlogSource : public ScanSource {
+ public:
+  RawlogSource(const std::string& path, PoseSource source)
+      : path_(path), source_(source), bytes_(static_cast<double>(uncompressedSize(path))) {
+    if (!in_.open(path)) throw InputError(path + ": cannot open");
+    if (source_ == PoseSource::GroundTruth && !hasGroundTruthInLog(path)) {
+      const std::string gt = companionGroundTruth(path);
+      if (!fileExists(gt)) {
+        throw InputError(path +
+                         ": no ground-truth poses (no CObservationRobotPose in the log, "
+                         "no companion file " +
+                         gt + ")");
+      }
+      for (const TimedPose& p : readPoseFile(gt)) {
+        poses_.add(p.t, mrpt::poses::CPose2D(p.x, p.y, p.phi));
+      }
+      poses_from_file_ = true;
+    }
+  }
+
+  static bool hasGroundTruthInLog(const std::string& path);
+
+  bool next(ScanRecord& out) override {
+    while (true) {
+      if (!ready_.empty()) {
+        out = std::move(ready_.front());
+        ready_.pop_front();
+        return true;
+      }
+      if (eof_) return flushPending(out);
+      readRecord();
+      resolvePending(false);
+    }
+  }
+
+  PoseSource poseSource() const override { return source_; }
+  const SourceStats& stats() const override { return stats_; }
+  const std::string& path() const override { return path_; }
+  double fractionRead() const override {
+    return bytes_ > 0 ? std::min(1.0, static_cast<double>(in_.getPosition()) / bytes_) : -1.0;
+  }
+
+ private:
+  struct Pending {
+    std::size_t index;
+    double t;
+    CObservation2DRangeScan::Ptr scan;
+  };
+
+  void readRecord() {
+    const uint64_t start = in_.getPosition();
+    mrpt::serialization::CSerializable::Ptr obj;
+    try {
+      obj = readBoundedObject(in_);
+    } catch (const mrpt::serialization::CExceptionEOF&) {
+      eof_ = true;
+      if (in_.getPosition() != start) {
+        fault_ = "record " + std::to_string(stats_.records) + " at byte " + std::to_string(start) +
+                 " is cut off (truncated file)";
+      }
+      return;
+    } catch (const std::exception& e) {
+      // MRPT reports a record cut short as an error reading it, not as CExceptionEOF.
+      eof_ = true;
+      const std::string msg = innermostMessage(e.what());
+      const std::string where =
+          "record " + std::to_string(stats_.records) + " at byte " + std::to_string(start);
+      if (msg.find("(EOF?)") != std::string::npos || in_.checkEOF()) {
+        fault_ = where + " is cut off (truncated file)";
+      } else if (msg.find("bad_alloc") != std::string::npos) {
+        fault_ = where + " is corrupt: it states a size no real record has";
+      } else {
+        fault_ = where + " is corrupt: " + msg;
+      }
+      return;
+    }
+    ++stats_.records;
+    if (!obj) return;
+    if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
+      for (const auto& o : *sf) take(o);
+      if (!odometry_observed_) {
+        // Action / sensory-frame format: the odometry integrated so far (the origin before the
+        // first action) is the pose of this frame's observations.
+        const double t = frameTime(*sf);
+        if (std::isfinite(t) && source_ == PoseSource::Odometry) poses_.add(t, odometry_);
+      }
+    } else if (auto acts = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
+      if (auto mv = acts->getBestMovementEstimation()) {
+        odometry_ = odometry_ + mv->poseChange->getMeanVal();
+      }
+    } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
+      take(o);
+    } else {
+      ++stats_.skipped[std::string("record of class ") + obj->GetRuntimeClass()->className];
+    }
+  }
+
+  /// MRPT's exceptions nest reports with call stacks; the innermost "Message:" says what failed.
+  static std::string innermostMessage(const std::string& what) {
+    std::string msg;
+    for (std::size_t pos = what.find("Message:"); pos != std::string::npos;
+         pos = what.find("Message:", pos + 1)) {
+      msg = what.substr(pos + 8, what.find('\n', pos) - pos - 8);
+    }
+    if (msg.empty()) msg = what.substr(0, what.find('\n'));
+    const auto first = msg.find_first_not_of(' ');
+    return first == std::string::npos ? std::string() : msg.substr(first);
+  }
+
+  static double frameTime(const mrpt::obs::CSensoryFrame& sf) {
+    for (const auto& o : sf) {
+      if (o && o->timestamp != INVALID_TIMESTAMP) return toSeconds(o->timestamp);
+    }
+    return NAN;
+  }
+
+  void take(const mrpt::obs::CObservation::Ptr& o) {
+    if (!o) return;
+    const double t = o->timestamp == INVALID_TIMESTAMP ? NAN : toSeconds(o->timestamp);
+    if (auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o)) {
+      normalizeFlags(*scan);
+      const std::size_t index = stats_.scans++;
+      if (!std::isfinite(t)) {
+        throw InputError(path_ + ": scan " + std::to_string(index) + " has no timestamp");
+      }
+      pending_.push_back({index, t, scan});
+      if (pending_.size() > kMaxPending) {
+        throw InputError(path_ + ": scan " + std::to_string(pending_.front().index) + " has no " +
+                         toString(source_) + " pose within " + std::to_string(kMaxPending) +
+                         " scans after it");
+      }
+    } else if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
+      odometry_observed_ = true;
+      if (source_ == PoseSource::Odometry && std::isfinite(t)) poses_.add(t, odo->odometry);
+    } else if (auto gt = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o)) {
+      if (source_ == PoseSource::GroundTruth && !poses_from_file_ && std::isfinite(t)) {
+        poses_.add(t, mrpt::poses::CPose2D(gt->pose.mean));
+      }
+    }
+  }
+
+  /// Moves pending scans whose pose is now known to ready_. At the end of input (`final`), a
+  /// scan past the last pose can only take it if close enough in time.
+  void resolvePending(bool final) {
+    while (!pending_.empty()) {
+      Pending& p = pending_.front();
+      mrpt::poses::CPose2D pose;
+      const PoseTrack::Lookup r = poses_.at(p.t, pose, final);
+      if (r == PoseTrack::Lookup::kLater) return;  // wait for a later pose
+      if (r != PoseTrack::Lookup::kFound) {
+        if (final && !fault_.empty()) {  // the fault, not the pose, is what went wrong
+          pending_.clear();
+          return;
+        }
+        throw InputError(path_ + ": scan " + std::to_string(p.index) +
+                         " (t=" + std::to_string(p.t) + ") has no " + toString(source_) + " pose");
+      }
+      const double t = p.t;
+      ready_.push_back({p.index, t, pose, std::move(p.scan)});
+      pending_.pop_front();  // p is gone from here on
+      // Poses from a little before it stay: a later scan stamped earlier (a clock stepping back)
+      // still finds its pose.
+      poses_.forgetBefore(t - kPoseHistory_s);
+    }
+  }
+
+  bool flushPending(ScanRecord& out) {
+    resolvePending(true);
+    if (!ready_.empty()) {
+      out = std::move(ready_.front());
+      ready_.pop_front();
+      return true;
+    }
+    if (!fault_.empty()) {
+      const std::string f = fault_;
+      fault_.clear();
+      throw InputError(path_ + ": " + f);
+    }
+    return false;
+  }
+
+  static constexpr std::size_t kMaxPending = 10000;
+  static constexpr double kPoseHistory_s = 10.0;
+
+  std::string path_;
+  PoseSource source_;
+  double bytes_;  // uncompressed size, for fractionRead (0: unknown)
+  mrpt::io::CFileGZInputStream in_;
+  SourceStats stats_;
+  PoseTrack poses_;
+  bool poses_from_file_ = false;
+  mrpt::poses::CPose2D odometry_;
+  bool odometry_observed_ = false;  // CObservationOdometry seen: frames carry no pose of their own
+  std::deque<Pending> pending_;
+  std::deque<ScanRecord> ready_;
+  bool eof_ = false;
+  std::string fault_;
+};
+
+}  // namespace
+
+RawlogPeek peekRawlog(const std::string& path) {
+  RawlogPeek peek;
+  mrpt::io::CFileGZInputStream in;
+  if (!in.open(path)) throw InputError(path + ": cannot open");
+  auto see = [&](const mrpt::obs::CObservation::Ptr& o) {
+    if (std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o)) peek.ground_truth = true;
+    if (std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) peek.odometry = true;
+  };
+  // A few hundred records tell which kinds of pose the log carries.
+  for (int i = 0; i < 300; ++i) {
+    mrpt::serialization::CSerializable::Ptr obj;
+    try {
+      obj = readBoundedObject(in);
+    } catch (const std::exception&) {
+      break;  // faults are reported by the real pass, at their record
+    }
+    if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
+      for (const auto& o : *sf) see(o);
+    } else if (std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
+      peek.odometry = true;
+    } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
+      see(o);
+    }
+  }
+  return peek;
+}
+
+bool RawlogSource::hasGroundTruthInLog(const std::string& path) {
+  return peekRawlog(path).ground_truth;
+}
+
+std::unique_ptr<ScanSource> openRawlogSource(const std::string& path, PoseSource source) {
+  return std::make_unique<RawlogSource>(path, source);
+}
+
+}  // namespace dynamap

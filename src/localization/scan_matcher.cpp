@@ -1,0 +1,468 @@
+#include "dynamap/localization/scan_matcher.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/slam/CICP.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+#include <vector>
+
+#include "dynamap/base/ini.h"
+
+namespace dynamap {
+namespace {
+
+const char* const kKeys[] = {"occupied_threshold",
+                             "window_margin_m",
+                             "min_map_points",
+                             "min_scan_points",
+                             "overlap_distance_m",
+                             "inlier_distance_m",
+                             "min_inlier_ratio",
+                             "max_correction_m",
+                             "max_correction_deg",
+                             "icp_threshold_dist_m",
+                             "icp_smallest_threshold_dist_m",
+                             "icp_max_iterations",
+                             "min_constraint",
+                             "search_xy_m",
+                             "search_deg",
+                             "search_offset_cost"};
+
+constexpr double kDegToRad = M_PI / 180.0;
+constexpr int kNormalRadius = 3;    // [cells] a wall's normal comes from a 7x7 neighbourhood
+constexpr int kNormalMinCells = 4;  // ... of at least this many occupied cells
+constexpr double kNormalMaxSpreadRatio = 0.2;  // ... spread across at most this along
+
+/// The scan's valid beam end points in the robot's frame, cut at `max_range`.
+std::vector<mrpt::math::TPoint2D> scanPoints(const mrpt::obs::CObservation2DRangeScan& scan,
+                                             double max_range) {
+  std::vector<mrpt::math::TPoint2D> pts;
+  const mrpt::poses::CPose2D sensor(scan.sensorPose);  // horizontal scans only (checked on insert)
+  const double limit = std::min<double>(max_range, scan.maxRange);
+  pts.reserve(scan.getScanSize());
+  for (std::size_t i = 0; i < scan.getScanSize(); ++i) {
+    const double r = scan.getScanRange(i);
+    if (!scan.getScanRangeValidity(i) || !std::isfinite(r) || r <= 0.0 || r >= limit) continue;
+    const double a = scan.getScanAngle(i);
+    pts.push_back(sensor + mrpt::math::TPoint2D(r * std::cos(a), r * std::sin(a)));
+  }
+  return pts;
+}
+
+/// S's occupied cells in the box around the scan's end points seen from `guess`, each as the
+/// centroid of the occupied cells of its 3x3 neighbourhood weighted by their log-odds. A wall
+/// that lies on the border between two rows of cells fills both rows: their centres are half a
+/// cell off the wall on either side, and point-to-point ICP would snap the scan onto one row.
+/// The centroids of both rows lie on the wall itself.
+/// `normals` receives, for each point, the unit normal of the wall through it: the minor axis
+/// of the occupied cells of its 7x7 neighbourhood.
+void mapPoints(const DynamicGridMap& map, const std::vector<mrpt::math::TPoint2D>& scan_pts,
+               const mrpt::poses::CPose2D& guess, const ScanMatchOptions& o,
+               mrpt::maps::CSimplePointsMap& out, std::vector<Eigen::Vector2d>& normals) {
+  double x0 = guess.x(), x1 = guess.x(), y0 = guess.y(), y1 = guess.y();
+  for (const auto& p : scan_pts) {
+    const mrpt::math::TPoint2D g = guess + p;
+    x0 = std::min(x0, g.x), x1 = std::max(x1, g.x);
+    y0 = std::min(y0, g.y), y1 = std::max(y1, g.y);
+  }
+  const double m = o.window_margin_m;
+  const int sx = static_cast<int>(map.getSizeX()), sy = static_cast<int>(map.getSizeY());
+  const int cx0 = std::max(0, map.x2idx(x0 - m)), cy0 = std::max(0, map.y2idx(y0 - m));
+  const int cx1 = std::min(sx - 1, map.x2idx(x1 + m)), cy1 = std::min(sy - 1, map.y2idx(y1 + m));
+  // getCell() is P(free): occupied above the threshold <=> the raw cell below this value.
+  using Grid = mrpt::maps::COccupancyGridMap2D;
+  const int occupied_below = Grid::p2l(static_cast<float>(1.0 - o.occupied_threshold));
+  const auto& raw = map.getRawMap();
+  // Weight of an occupied cell: how far below the threshold its log-odds lie, plus one.
+  auto weight = [&](int cx, int cy) -> int {
+    const int v = raw[static_cast<std::size_t>(cy) * sx + cx];
+    return v < occupied_below ? occupied_below - v : 0;
+  };
+  for (int cy = cy0; cy <= cy1; ++cy) {
+    for (int cx = cx0; cx <= cx1; ++cx) {
+      if (weight(cx, cy) == 0) continue;
+      // Integer sums: exact, so the result is reproducible.
+      long w_sum = 0, wx = 0, wy = 0, w5 = 0, sx5 = 0, sy5 = 0, sxx = 0, syy = 0, sxy = 0;
+      for (int dy = -kNormalRadius; dy <= kNormalRadius; ++dy) {
+        for (int dx = -kNormalRadius; dx <= kNormalRadius; ++dx) {
+          const int nx = cx + dx, ny = cy + dy;
+          if (nx < 0 || ny < 0 || nx >= sx || ny >= sy) continue;
+          const long w = weight(nx, ny);
+          if (w == 0) continue;
+          if (std::abs(dx) <= 1 && std::abs(dy) <= 1) w_sum += w, wx += w * dx, wy += w * dy;
+          // The wall's direction from the cells' layout alone: how occupied each cell is
+          // varies along a wall and would tilt it.
+          w5 += 1, sx5 += dx, sy5 += dy;
+          sxx += dx * dx, syy += dy * dy, sxy += dx * dy;
+        }
+      }
+      const double mx = double(sx5) / w5, my = double(sy5) / w5;
+      Eigen::Matrix2d cov;
+      cov << sxx / double(w5) - mx * mx, sxy / double(w5) - mx * my, sxy / double(w5) - mx * my,
+          syy / double(w5) - my * my;
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+      // A normal only where the cells line up (a wall); a lone cell or a blob pins nothing down.
+      const bool wall = w5 >= kNormalMinCells &&
+                        eig.eigenvalues()(0) < kNormalMaxSpreadRatio * eig.eigenvalues()(1);
+      const Eigen::Vector2d n =
+          wall ? Eigen::Vector2d(eig.eigenvectors().col(0)) : Eigen::Vector2d::Zero();
+      // On a wall, points every fifth of a cell along it: point-to-point ICP against one point
+      // per cell would leave the scan free to slide by up to half a cell along each wall.
+      const double res = map.getResolution();
+      const double px = map.idx2x(cx) + res * wx / w_sum, py = map.idx2y(cy) + res * wy / w_sum;
+      for (int k = wall ? -2 : 0; k <= (wall ? 2 : 0); ++k) {
+        const double along = 0.2 * k * res;  // tangent = (-n.y, n.x)
+        out.insertPointFast(static_cast<float>(px - along * n.y()),
+                            static_cast<float>(py + along * n.x()), 0);
+        normals.push_back(n);
+      }
+    }
+  }
+  out.mark_as_modified();
+}
+
+/// The guess moved by ICP's correction only along the directions (x, y, heading) that the
+/// inliers' information `info` constrains: eigenvalues per inlier of at least min_constraint.
+mrpt::poses::CPose2D keepConstrained(const mrpt::poses::CPose2D& guess,
+                                     const mrpt::poses::CPose2D& matched,
+                                     const Eigen::Matrix3d& info, ScanMatchResult& r,
+                                     const ScanMatchOptions& o) {
+  if (r.inliers == 0) return matched;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(info / static_cast<double>(r.inliers));
+  const Eigen::Vector3d delta(matched.x() - guess.x(), matched.y() - guess.y(),
+                              mrpt::math::wrapToPi(matched.phi() - guess.phi()));
+  Eigen::Vector3d kept = Eigen::Vector3d::Zero();
+  r.degenerate_directions = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d v = eig.eigenvectors().col(i);
+    if (eig.eigenvalues()(i) >= o.min_constraint) {
+      kept += v.dot(delta) * v;
+    } else {
+      ++r.degenerate_directions;
+    }
+  }
+  return {guess.x() + kept.x(), guess.y() + kept.y(), mrpt::math::wrapToPi(guess.phi() + kept.z())};
+}
+
+}  // namespace
+
+namespace {
+
+/// The pose near `guess` (within search_xy_m in x and y, on the grid's cells, and search_deg in
+/// heading, in 0.5 degree steps) whose scan points lie best on S's occupied cells: each point
+/// scores 1 on an occupied cell, falling linearly to 0 at three cells away, through a distance
+/// field (two-pass chamfer) of the window the search can reach. A prior on the offset keeps
+/// flat directions (a straight corridor) and small gains from wall texture at the guess. Cost: the
+/// window's cells plus (headings x offsets x at most 120 points) lookups, never the map's size.
+mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
+                                      const std::vector<mrpt::math::TPoint2D>& pts,
+                                      const mrpt::poses::CPose2D& guess,
+                                      const ScanMatchOptions& o) {
+  const double res = map.getResolution();
+  const int shift = static_cast<int>(std::floor(o.search_xy_m / res + 1e-9));
+  const int turns = static_cast<int>(std::floor(o.search_deg / 0.5 + 1e-9));
+  if ((shift == 0 && turns == 0) || pts.empty()) return guess;
+  // Up to 120 points, evenly through the scan.
+  std::vector<mrpt::math::TPoint2D> sample;
+  const std::size_t stride = pts.size() / 120 + 1;
+  for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
+  // The window: every cell a point can reach, plus the field's reach.
+  constexpr int kReach = 3;
+  double x0 = guess.x(), x1 = x0, y0 = guess.y(), y1 = y0;
+  for (const auto& p : sample) {
+    const mrpt::math::TPoint2D g = guess + p;
+    x0 = std::min(x0, g.x), x1 = std::max(x1, g.x), y0 = std::min(y0, g.y), y1 = std::max(y1, g.y);
+  }
+  const int sx = static_cast<int>(map.getSizeX()), sy = static_cast<int>(map.getSizeY());
+  const int margin = shift + kReach + 2;
+  const int cx0 = std::max(0, map.x2idx(x0) - margin),
+            cx1 = std::min(sx - 1, map.x2idx(x1) + margin);
+  const int cy0 = std::max(0, map.y2idx(y0) - margin),
+            cy1 = std::min(sy - 1, map.y2idx(y1) + margin);
+  if (cx1 <= cx0 || cy1 <= cy0) return guess;
+  const int w = cx1 - cx0 + 1, h = cy1 - cy0 + 1;
+  // Distance (in cells) to the nearest occupied cell, chamfer 1 / 1.4, capped at kReach + 1.
+  const float far = static_cast<float>(kReach + 1);
+  std::vector<float> dist(static_cast<std::size_t>(w) * h, far);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (map.staticOccupancy(cx0 + x, cy0 + y) > o.occupied_threshold) dist[x + y * w] = 0.0f;
+    }
+  }
+  auto relax = [&](int x, int y, int dx, int dy, float cost) {
+    const int nx = x + dx, ny = y + dy;
+    if (nx < 0 || ny < 0 || nx >= w || ny >= h) return;
+    float& d = dist[x + y * w];
+    d = std::min(d, dist[nx + ny * w] + cost);
+  };
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      relax(x, y, -1, 0, 1.0f), relax(x, y, 0, -1, 1.0f);
+      relax(x, y, -1, -1, 1.4f), relax(x, y, 1, -1, 1.4f);
+    }
+  }
+  for (int y = h - 1; y >= 0; --y) {
+    for (int x = w - 1; x >= 0; --x) {
+      relax(x, y, 1, 0, 1.0f), relax(x, y, 0, 1, 1.0f);
+      relax(x, y, 1, 1, 1.4f), relax(x, y, -1, 1, 1.4f);
+    }
+  }
+  std::vector<float> score(dist.size());
+  for (std::size_t i = 0; i < dist.size(); ++i) {
+    score[i] = std::max(0.0f, 1.0f - dist[i] / static_cast<float>(kReach));
+  }
+  // The search. Odometry drifts little from one scan to the next: each cell of offset costs
+  // search_offset_cost points squared, a turn to the search's edge a twentieth of the points.
+  const double turn_prior = 0.05 * static_cast<double>(sample.size());
+  double best = -1e300;
+  int best_t = 0, best_x = 0, best_y = 0;
+  std::vector<int> px(sample.size()), py(sample.size());
+  for (int t = -turns; t <= turns; ++t) {
+    const mrpt::poses::CPose2D turned(guess.x(), guess.y(), guess.phi() + t * 0.5 * kDegToRad);
+    for (std::size_t i = 0; i < sample.size(); ++i) {
+      const mrpt::math::TPoint2D g = turned + sample[i];
+      px[i] = map.x2idx(g.x) - cx0;
+      py[i] = map.y2idx(g.y) - cy0;
+    }
+    for (int dy = -shift; dy <= shift; ++dy) {
+      for (int dx = -shift; dx <= shift; ++dx) {
+        double s = 0;
+        for (std::size_t i = 0; i < sample.size(); ++i) {
+          const int x = px[i] + dx, y = py[i] + dy;
+          if (x >= 0 && y >= 0 && x < w && y < h) s += score[x + y * w];
+        }
+        s -= o.search_offset_cost * (dx * dx + dy * dy) +
+             (turns ? turn_prior * (t * t) / double(turns * turns) : 0.0);
+        if (s > best) best = s, best_t = t, best_x = dx, best_y = dy;
+      }
+    }
+  }
+  return {guess.x() + best_x * res, guess.y() + best_y * res,
+          guess.phi() + best_t * 0.5 * kDegToRad};
+}
+
+}  // namespace
+
+void ScanMatchOptions::load(const IniFile& ini) {
+  const std::string s = kSection;
+  ini.requireKnownKeys(s, {std::begin(kKeys), std::end(kKeys)});
+  occupied_threshold = ini.getDouble(s, "occupied_threshold", occupied_threshold);
+  window_margin_m = ini.getDouble(s, "window_margin_m", window_margin_m);
+  min_map_points = static_cast<int>(ini.getInt(s, "min_map_points", min_map_points));
+  min_scan_points = static_cast<int>(ini.getInt(s, "min_scan_points", min_scan_points));
+  overlap_distance_m = ini.getDouble(s, "overlap_distance_m", overlap_distance_m);
+  inlier_distance_m = ini.getDouble(s, "inlier_distance_m", inlier_distance_m);
+  min_inlier_ratio = ini.getDouble(s, "min_inlier_ratio", min_inlier_ratio);
+  max_correction_m = ini.getDouble(s, "max_correction_m", max_correction_m);
+  max_correction_deg = ini.getDouble(s, "max_correction_deg", max_correction_deg);
+  icp_threshold_dist_m = ini.getDouble(s, "icp_threshold_dist_m", icp_threshold_dist_m);
+  icp_smallest_threshold_dist_m =
+      ini.getDouble(s, "icp_smallest_threshold_dist_m", icp_smallest_threshold_dist_m);
+  icp_max_iterations = static_cast<int>(ini.getInt(s, "icp_max_iterations", icp_max_iterations));
+  min_constraint = ini.getDouble(s, "min_constraint", min_constraint);
+  search_xy_m = ini.getDouble(s, "search_xy_m", search_xy_m);
+  search_deg = ini.getDouble(s, "search_deg", search_deg);
+  search_offset_cost = ini.getDouble(s, "search_offset_cost", search_offset_cost);
+  validate(ini.name());
+}
+
+void ScanMatchOptions::validate(const std::string& src) const {
+  const char* s = kSection;
+  if (!(occupied_threshold > 0.5 && occupied_threshold < 1.0)) {
+    rejectValue(src, s, "occupied_threshold", "must be in (0.5, 1)");
+  }
+  requireInRange(src, s, "window_margin_m", window_margin_m, 0.0, 5.0, "within [0, 5] m");
+  requireInRange(src, s, "min_map_points", min_map_points, 3, 100000, "an integer in [3, 100000]");
+  requireInRange(src, s, "min_scan_points", min_scan_points, 3, 100000,
+                 "an integer in [3, 100000]");
+  if (!(overlap_distance_m > 0.0 && overlap_distance_m <= 2.0)) {
+    rejectValue(src, s, "overlap_distance_m", "must be in (0, 2] m");
+  }
+  if (!(inlier_distance_m > 0.0 && inlier_distance_m <= 1.0)) {
+    rejectValue(src, s, "inlier_distance_m", "must be in (0, 1] m");
+  }
+  requireInRange(src, s, "min_inlier_ratio", min_inlier_ratio, 0.0, 1.0, "within [0, 1]");
+  if (!(max_correction_m > 0.0 && max_correction_m <= 10.0)) {
+    rejectValue(src, s, "max_correction_m", "must be in (0, 10] m");
+  }
+  if (!(max_correction_deg > 0.0 && max_correction_deg <= 90.0)) {
+    rejectValue(src, s, "max_correction_deg", "must be in (0, 90] degrees");
+  }
+  if (!(icp_threshold_dist_m > 0.0 && icp_threshold_dist_m <= 5.0)) {
+    rejectValue(src, s, "icp_threshold_dist_m", "must be in (0, 5] m");
+  }
+  if (!(icp_smallest_threshold_dist_m > 0.0 &&
+        icp_smallest_threshold_dist_m <= icp_threshold_dist_m)) {
+    rejectValue(src, s, "icp_smallest_threshold_dist_m", "must be in (0, icp_threshold_dist_m]");
+  }
+  requireInRange(src, s, "icp_max_iterations", icp_max_iterations, 1, 1000,
+                 "an integer in [1, 1000]");
+  requireInRange(src, s, "min_constraint", min_constraint, 0.0, 1.0, "within [0, 1]");
+  requireInRange(src, s, "search_xy_m", search_xy_m, 0.0, 2.0, "within [0, 2] m");
+  requireInRange(src, s, "search_deg", search_deg, 0.0, 20.0, "within [0, 20] deg");
+  requireInRange(src, s, "search_offset_cost", search_offset_cost, 0.0, 1000.0, "within [0, 1000]");
+}
+
+void ScanMatchOptions::writeIni(std::ostream& out) const {
+  out << std::setprecision(10);
+  out << "[" << kSection << "]\n"
+      << "occupied_threshold = " << occupied_threshold
+      << " ; S cells above this P(occ) are matched against\n"
+      << "window_margin_m = " << window_margin_m
+      << " ; [m] S is searched this far around the scan's end points\n"
+      << "min_map_points = " << min_map_points
+      << " ; fewer occupied S cells near the scan: odometry is used\n"
+      << "min_scan_points = " << min_scan_points
+      << " ; fewer scan points on what S holds: odometry is used\n"
+      << "overlap_distance_m = " << overlap_distance_m
+      << " ; [m] scan points farther than this from S (seen from the guess) are not matched\n"
+      << "inlier_distance_m = " << inlier_distance_m
+      << " ; [m] a matched scan point this close to S is an inlier\n"
+      << "min_inlier_ratio = " << min_inlier_ratio
+      << " ; fewer inliers (fraction of scan points): odometry is used\n"
+      << "max_correction_m = " << max_correction_m
+      << " ; [m] a larger correction of the odometry guess is rejected\n"
+      << "max_correction_deg = " << max_correction_deg
+      << " ; [deg] a larger heading correction is rejected\n"
+      << "icp_threshold_dist_m = " << icp_threshold_dist_m
+      << " ; [m] ICP's initial correspondence distance\n"
+      << "icp_smallest_threshold_dist_m = " << icp_smallest_threshold_dist_m
+      << " ; [m] ICP stops when its halved distance falls below this\n"
+      << "icp_max_iterations = " << icp_max_iterations << " ; ICP's iteration cap\n"
+      << "min_constraint = " << min_constraint
+      << " ; pose directions the matched walls constrain less than this keep odometry's value\n"
+      << "search_xy_m = " << search_xy_m
+      << " ; [m] grid search around the guess before ICP, in x and y (0: off)\n"
+      << "search_deg = " << search_deg << " ; [deg] ...and in heading\n"
+      << "search_offset_cost = " << search_offset_cost
+      << " ; score (scan points) a search pose loses per cell^2 of offset\n";
+}
+
+void ScanMatchOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                          const std::string& section) {
+  load(IniFile::fromMrptSection(source, section, kSection));  // the same checks as an ini file
+}
+
+void ScanMatchOptions::dumpToTextStream(std::ostream& out) const {
+  writeIni(out);
+}
+
+ScanMatcher::ScanMatcher(const ScanMatchOptions& options, double max_range_m)
+    : options_(options), max_range_m_(max_range_m) {
+  options_.validate("scan matching options");
+}
+
+ScanMatchResult ScanMatcher::match(const DynamicGridMap& map,
+                                   const mrpt::obs::CObservation2DRangeScan& scan,
+                                   const mrpt::poses::CPose2D& guess) const {
+  const ScanMatchOptions& o = options_;
+  ScanMatchResult r;
+  r.pose = guess;
+  // 1. The scan's end points, in the robot's frame.
+  const std::vector<mrpt::math::TPoint2D> pts = scanPoints(scan, max_range_m_);
+  r.scan_points = pts.size();
+  if (pts.size() < static_cast<std::size_t>(o.min_scan_points)) {
+    r.fallback_reason = "too few scan points";
+    return r;
+  }
+  // 2. The occupied cells of S around where those points fall, seen from the guess, moved to
+  //    the best pose of a grid search first: drift larger than the overlap gate is caught.
+  const mrpt::poses::CPose2D odometry = guess;
+  const mrpt::poses::CPose2D start = correlativeGuess(map, pts, guess, o);
+  mrpt::maps::CSimplePointsMap reference;
+  std::vector<Eigen::Vector2d> normals;
+  mapPoints(map, pts, start, o, reference, normals);
+  r.map_points = reference.size();
+  if (r.map_points < static_cast<std::size_t>(o.min_map_points)) {
+    r.fallback_reason = "too few map points";
+    return r;
+  }
+  // 3. Only the points that fall on what S already holds, seen from the guess. A point in
+  //    space S has never seen (a wall seen further along a corridor than ever before) has no
+  //    partner in S: the nearest one, the end of the known wall, would drag the robot back, or
+  //    turn it. Points farther from S's walls are also what S does not hold: people, objects
+  //    that moved (they are in D, never in S).
+  const float overlap_d2 = static_cast<float>(o.overlap_distance_m * o.overlap_distance_m);
+  mrpt::maps::CSimplePointsMap scan_map;
+  std::vector<mrpt::math::TPoint2D> overlap;
+  for (const auto& p : pts) {
+    const mrpt::math::TPoint2D g = start + p;
+    if (reference.kdTreeClosestPoint2DsqrError(static_cast<float>(g.x), static_cast<float>(g.y)) <=
+        overlap_d2) {
+      overlap.push_back(p);
+      scan_map.insertPointFast(static_cast<float>(p.x), static_cast<float>(p.y), 0);
+    }
+  }
+  scan_map.mark_as_modified();
+  r.scan_points = overlap.size();
+  if (overlap.size() < static_cast<std::size_t>(o.min_scan_points)) {
+    r.fallback_reason = "too little overlap";
+    return r;
+  }
+
+  // 4. ICP, from the odometry guess.
+  mrpt::slam::CICP icp;
+  icp.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+  auto& io = icp.options;
+  io.ICP_algorithm = mrpt::slam::icpClassic;
+  io.maxIterations = static_cast<unsigned>(o.icp_max_iterations);
+  io.thresholdDist = o.icp_threshold_dist_m;
+  io.thresholdAng = 0.15 * kDegToRad;
+  io.ALFA = 0.5;
+  io.smallestThresholdDist = o.icp_smallest_threshold_dist_m;
+  io.onlyUniqueRobust = false;
+  io.doRANSAC = false;
+  io.skip_cov_calculation = true;
+  io.skip_quality_calculation = true;
+  io.corresponding_points_decimation = 1;  // every point: few points, and the pose must be exact
+  mrpt::slam::CICP::TReturnInfo info;
+  const auto pdf = icp.Align(&reference, &scan_map, start, info);
+  const mrpt::poses::CPose2D matched = pdf->getMeanVal();
+  r.icp_iterations = info.nIterations;
+
+  // 5. Inliers, and how well they pin each direction of the pose down: a wall constrains the
+  //    pose across itself only, so in a straight corridor nothing fixes the position along it.
+  //    There ICP's answer is noise (or the pull of the map's edge): the guess is kept.
+  const float max_d2 = static_cast<float>(o.inlier_distance_m * o.inlier_distance_m);
+  //    Every scan point is judged at the matched pose, not only those that overlapped S at the
+  //    guess.
+  Eigen::Matrix3d fisher = Eigen::Matrix3d::Zero();  // point-to-line information of inliers
+  for (const auto& p : pts) {
+    const mrpt::math::TPoint2D g = matched + p;
+    float qx, qy, d2;
+    const std::size_t k = reference.kdTreeClosestPoint2D(static_cast<float>(g.x),
+                                                         static_cast<float>(g.y), qx, qy, d2);
+    if (d2 > max_d2) continue;
+    ++r.inliers;
+    const Eigen::Vector2d& n = normals[k];
+    const double rx = g.x - matched.x(), ry = g.y - matched.y();  // the point, rotated
+    const Eigen::Vector3d j(n.x(), n.y(), -n.x() * ry + n.y() * rx);
+    fisher += j * j.transpose();
+  }
+  r.inlier_ratio = static_cast<double>(r.inliers) / static_cast<double>(pts.size());
+  const mrpt::poses::CPose2D corrected = keepConstrained(start, matched, fisher, r, o);
+  r.correction_m = std::hypot(corrected.x() - odometry.x(), corrected.y() - odometry.y());
+  r.correction_rad = std::abs(mrpt::math::wrapToPi(corrected.phi() - odometry.phi()));
+  if (!std::isfinite(matched.x()) || !std::isfinite(matched.y()) || !std::isfinite(matched.phi()) ||
+      r.correction_m > o.max_correction_m || r.correction_rad > o.max_correction_deg * kDegToRad) {
+    r.fallback_reason = "correction too large";
+    return r;
+  }
+  if (r.inlier_ratio < o.min_inlier_ratio) {
+    r.fallback_reason = "low inlier ratio";
+    return r;
+  }
+  r.pose = corrected;
+  r.matched = true;
+  return r;
+}
+
+}  // namespace dynamap

@@ -1,0 +1,78 @@
+#include "dynamap/outputs/tables.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+
+#include "dynamap/outputs/format.h"
+#include "dynamap/outputs/map_outputs.h"
+
+namespace dynamap {
+
+TrackLog::TrackLog(const std::string& dir) : dir_(dir), tmp_(tempName(dir, "tracks.csv")) {
+  out_ = std::make_unique<std::ofstream>(tmp_, std::ios::binary | std::ios::trunc);
+  if (!*out_) throw std::runtime_error(dir + "/tracks.csv: cannot write");
+  *out_ << "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n";
+}
+
+TrackLog::~TrackLog() {
+  if (!out_) return;
+  out_.reset();
+  std::error_code ec;
+  std::filesystem::remove(tmp_, ec);  // not finished: leave no half-written file
+}
+
+void TrackLog::append(std::size_t scan_index, double t, const ObjectTracker& tracker) {
+  for (const TrackedObject& o : tracker.objects()) {
+    if (o.state != ObjectState::Present) continue;
+    const ShapeEstimate& s = o.shape;
+    *out_ << scan_index << ',' << fmt("%.6f", t) << ',' << o.id << ',' << fmt("%.3f", s.cx) << ','
+          << fmt("%.3f", s.cy) << ',' << fmt("%.3f", s.size) << ',' << fmt("%.3f", s.x_min) << ','
+          << fmt("%.3f", s.x_max) << ',' << fmt("%.3f", s.y_min) << ',' << fmt("%.3f", s.y_max)
+          << '\n';
+  }
+}
+
+void TrackLog::finish() {
+  out_->flush();
+  const bool ok = static_cast<bool>(*out_);
+  out_.reset();
+  if (!ok) {
+    std::error_code ec;
+    std::filesystem::remove(tmp_, ec);
+    throw std::runtime_error(dir_ + "/tracks.csv: cannot write");
+  }
+  commit(tmp_, dir_, "tracks.csv");
+}
+
+void writePosesTxt(std::ostream& o, const std::vector<UsedPose>& poses) {
+  o << "% timestamp x y phi (the pose each scan was mapped at)\n";
+  char buf[128];
+  for (const UsedPose& p : poses) {
+    std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f\n", p.t, p.pose.x(), p.pose.y(),
+                  p.pose.phi());
+    o << buf;
+  }
+}
+
+void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {
+  o << "id,label,size_m,cx,cy,x_min,x_max,y_min,y_max,state,first_seen_t,last_seen_t,n_moves\n";
+  for (const TrackedObject& ob : tracker.objects()) {
+    const ShapeEstimate& s = ob.shape;
+    o << ob.id << ',' << ob.label << ',' << fmt("%.3f", s.size) << ',' << fmt("%.3f", s.cx) << ','
+      << fmt("%.3f", s.cy) << ',' << fmt("%.3f", s.x_min) << ',' << fmt("%.3f", s.x_max) << ','
+      << fmt("%.3f", s.y_min) << ',' << fmt("%.3f", s.y_max) << ',' << toString(ob.state) << ','
+      << fmt("%.6f", ob.first_seen_t) << ',' << fmt("%.6f", ob.last_seen_t) << ',' << ob.n_moves
+      << '\n';
+  }
+}
+
+void writeEventsCsv(std::ostream& o, const ObjectTracker& tracker) {
+  o << "t,scan_index,object_id,event,cx,cy,size_m\n";
+  for (const EventRecord& e : tracker.events()) {
+    o << fmt("%.6f", e.t) << ',' << e.scan_index << ',' << e.object_id << ',' << toString(e.event)
+      << ',' << fmt("%.3f", e.cx) << ',' << fmt("%.3f", e.cy) << ',' << fmt("%.3f", e.size) << '\n';
+  }
+}
+
+}  // namespace dynamap

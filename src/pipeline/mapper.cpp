@@ -1,0 +1,127 @@
+#include "dynamap/pipeline/mapper.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+#include "dynamap/base/ini.h"
+
+namespace dynamap {
+
+MapConfig MapConfig::load(const IniFile& ini) {
+  ini.requireKnownSections({DynamicMapOptions::kSection, InsertionOptions::kSection,
+                            ObjectOptions::kSection, ScanMatchOptions::kSection, "input"});
+  MapConfig c;
+  c.map.load(ini);
+  c.insertion.load(ini);
+  c.objects.load(ini);
+  c.scan_matching.load(ini);
+  ini.requireKnownKeys("input", {"poses"});
+  const std::string poses = ini.getString("input", "poses", "auto");
+  try {
+    c.poses = parsePoseSource(poses);
+  } catch (const std::invalid_argument& e) {
+    ini.fail("input", "poses", e.what());
+  }
+  return c;
+}
+
+void MapConfig::writeIni(std::ostream& out) const {
+  out << "; the effective configuration of this run (reload it with --config)\n\n";
+  out << "[input]\n"
+      << "poses = " << toString(poses)
+      << "  ; auto | simplemap | ground_truth | odometry | scan_matching\n\n";
+  map.writeIni(out);
+  out << "\n";
+  insertion.writeIni(out);
+  out << "\n";
+  objects.writeIni(out);
+  out << "\n";
+  scan_matching.writeIni(out);
+}
+
+std::size_t ScanMatchCounts::fallbackTotal() const {
+  std::size_t n = 0;
+  for (const auto& kv : fallbacks) n += kv.second;
+  return n;
+}
+
+Mapper::Mapper(const MapConfig& config)
+    : config_(config),
+      map_(config.map, config.insertion),
+      tracker_(config.objects),
+      path_(config.map.resolution) {
+  if (config.poses == PoseSource::ScanMatching) {
+    matcher_ = std::make_unique<ScanMatcher>(config.scan_matching,
+                                             config.insertion.max_distance_insertion);
+  }
+}
+
+std::string Mapper::poseSourceName(const ScanSource& source) const {
+  return toString(matcher_ ? PoseSource::ScanMatching : source.poseSource());
+}
+
+mrpt::poses::CPose2D Mapper::correctPose(const ScanRecord& rec) {
+  // The odometry increment since the last scan, applied to the last pose used, is the guess.
+  const mrpt::poses::CPose2D guess =
+      have_pose_ ? last_pose_ + (rec.pose - last_odometry_) : rec.pose;
+  // Matched against S only: D's people and moved objects cannot pull the pose.
+  const ScanMatchResult r = matcher_->match(map_, *rec.scan, guess);
+  if (r.matched) {
+    ++match_counts_.matched;
+    match_counts_.sum_correction_m += r.correction_m;
+    match_counts_.max_correction_m = std::max(match_counts_.max_correction_m, r.correction_m);
+  } else {
+    ++match_counts_.fallbacks[r.fallback_reason];
+  }
+  have_pose_ = true;
+  last_odometry_ = rec.pose;
+  last_pose_ = r.pose;
+  return r.pose;
+}
+
+bool Mapper::process(const ScanRecord& rec) {
+  if (have_t_ && rec.t < counts_.last_t) ++counts_.time_backwards;
+  if (!have_t_) counts_.first_t = rec.t;
+  have_t_ = true;
+  counts_.last_t = rec.t;
+
+  const mrpt::poses::CPose2D pose2 = matcher_ ? correctPose(rec) : rec.pose;
+  used_poses_.push_back({rec.t, pose2});
+  map_.insertObservation(*rec.scan, mrpt::poses::CPose3D(pose2));
+  const ScanInsertStats& st = map_.lastInsertStats();
+  counts_.beams_bad += st.beams_bad;
+  if (!st.inserted) {
+    ++counts_.scans_skipped[st.skip_reason ? st.skip_reason : "no usable beam"];
+    return false;
+  }
+  ++counts_.scans_used;
+  // Objects, from the D cells this scan changed and the scan's view of known places.
+  tracker_.update(map_, makeScanView(*rec.scan, pose2, config_.insertion.max_distance_insertion),
+                  rec.t, rec.index);
+  path_.add(pose2.x(), pose2.y());
+  return true;
+}
+
+InputOutcome runMapping(ScanSource& source, Mapper& mapper,
+                        const std::function<void(const ScanRecord&)>& on_scan) {
+  InputOutcome outcome;
+  ScanRecord rec;
+  while (true) {
+    try {
+      if (!source.next(rec)) break;
+    } catch (const InputError& e) {
+      outcome.fault = e.what();
+      break;
+    }
+    mapper.process(rec);
+    rec.pose = mapper.usedPoses().back().pose;  // scan matching may have corrected it
+    if (on_scan) on_scan(rec);
+  }
+  return outcome;
+}
+
+}  // namespace dynamap

@@ -1,0 +1,490 @@
+// The evaluation's definitions (docs/evaluation.md) on tiny hand-written truth and tracks, SA/DA
+// on a hand-made 5 x 5 map, and `dynamap eval` end to end on the bundled tiny scenario.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "../test_util.h"
+#include "dynamap/evaluation/evaluation.h"
+
+namespace dynamap {
+namespace {
+
+using sim::BodyKind;
+
+// A truth of scans at 1 Hz (scan k at t = k): object 1 (0.3 m) moves from (0, 0) to (5, 0) in
+// [2, 3]; object 2 (0.3 m) stands still at (0, 3) all along. Both are seen by 10 beams.
+struct Truth {
+  std::vector<TruthRow> rows;
+  std::vector<TruthMove> moves;
+};
+
+Truth twoObjects(std::size_t scans = 20) {
+  Truth t;
+  for (std::size_t k = 0; k < scans; ++k) {
+    const double time = static_cast<double>(k);
+    const double x1 = time < 3 ? 0.0 : 5.0;
+    t.rows.push_back({k, time, BodyKind::Object, 1, x1, 0.0, 0.3, 10});
+    t.rows.push_back({k, time, BodyKind::Object, 2, 0.0, 3.0, 0.3, 10});
+  }
+  t.moves.push_back({1, 1, 2.0, 3.0, {0, 0}, {5, 0}});
+  return t;
+}
+
+TrackRow track(std::size_t scan, int id, double x, double y) {
+  TrackRow r;
+  r.scan_index = scan;
+  r.t = static_cast<double>(scan);
+  r.object_id = id;
+  r.cx = x;
+  r.cy = y;
+  r.size_m = 0.3;
+  return r;
+}
+
+/// Id `id` on object 2 at every scan.
+void addStill(std::vector<TrackRow>& tracks, int id, std::size_t scans = 20) {
+  for (std::size_t k = 0; k < scans; ++k) tracks.push_back(track(k, id, 0.05, 3.0));
+}
+
+TEST(EvalObjects, CleanDetectionIsCorrectWithItsLatency) {
+  const Truth t = twoObjects();
+  std::vector<TrackRow> tracks;
+  addStill(tracks, 20);
+  for (std::size_t k = 0; k < 3; ++k) tracks.push_back(track(k, 10, 0.1, 0.0));
+  for (std::size_t k = 5; k < 20; ++k) tracks.push_back(track(k, 10, 5.1, 0.1));  // 2 s late
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  ASSERT_EQ(s.moves.size(), 1u);
+  const MoveResult& m = s.moves[0];
+  EXPECT_TRUE(m.visible);
+  EXPECT_EQ(m.visible_scan, 3u);  // the first scan at t >= t_end with >= 3 hits
+  EXPECT_TRUE(m.correct);
+  EXPECT_FALSE(m.sizeError());
+  EXPECT_EQ(s.correct, 1u);
+  EXPECT_EQ(s.not_detected, 0u);
+  EXPECT_EQ(s.size_errors, 0u);
+  EXPECT_EQ(s.static_as_objects, 0u);
+  EXPECT_DOUBLE_EQ(m.latency_s, 2.0);
+  EXPECT_EQ(m.latency_scans, 2u);
+  ASSERT_EQ(s.ids.size(), 2u);
+  EXPECT_EQ(s.ids[0].track_id, 10);
+  EXPECT_EQ(s.ids[0].body, (BodyKey{BodyKind::Object, 1}));
+  EXPECT_EQ(s.ids[1].body, (BodyKey{BodyKind::Object, 2}));
+}
+
+TEST(EvalObjects, VisibilityWaitsForThreeHits) {
+  Truth t = twoObjects();
+  for (auto& r : t.rows) {
+    if (r.id == 1 && r.scan_index >= 3 && r.scan_index < 6) r.hits = 2;  // seen at scan 6
+  }
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, {});
+  EXPECT_TRUE(s.moves[0].visible);
+  EXPECT_EQ(s.moves[0].visible_scan, 6u);
+  EXPECT_DOUBLE_EQ(s.moves[0].visible_t, 6.0);
+}
+
+TEST(EvalObjects, NeverSeenAtItsNewPlaceIsNotScored) {
+  Truth t = twoObjects();
+  for (auto& r : t.rows) {
+    if (r.id == 1 && r.scan_index >= 3) r.hits = 0;
+  }
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, {});
+  EXPECT_FALSE(s.moves[0].visible);
+  EXPECT_EQ(s.visible, 0u);
+  EXPECT_EQ(s.not_detected, 0u);
+}
+
+TEST(EvalObjects, MissIsNotDetected) {
+  const Truth t = twoObjects();
+  std::vector<TrackRow> tracks;
+  addStill(tracks, 20);
+  for (std::size_t k = 0; k < 3; ++k) tracks.push_back(track(k, 10, 0.0, 0.0));
+  // Found only after the 10 s window (visible at 3, window to 13).
+  for (std::size_t k = 14; k < 20; ++k) tracks.push_back(track(k, 10, 5.0, 0.0));
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  EXPECT_FALSE(s.moves[0].matched);
+  EXPECT_FALSE(s.moves[0].correct);
+  EXPECT_EQ(s.not_detected, 1u);
+  EXPECT_EQ(s.correct, 0u);
+  EXPECT_EQ(s.latency.count, 0u);
+  EXPECT_TRUE(std::isnan(s.latency.median_s));
+}
+
+TEST(EvalObjects, MatchRadiusIsTheLargerOfQuarterMetreAndDiameter) {
+  TruthRow small{0, 0, BodyKind::Object, 1, 0, 0, 0.1, 5};
+  TruthRow big{0, 0, BodyKind::Object, 2, 0, 0, 0.6, 5};
+  EXPECT_TRUE(rowMatches(track(0, 1, 0.25, 0), small, {}));
+  EXPECT_FALSE(rowMatches(track(0, 1, 0.26, 0), small, {}));
+  EXPECT_TRUE(rowMatches(track(0, 1, 0.6, 0), big, {}));
+  EXPECT_FALSE(rowMatches(track(0, 1, 0.61, 0), big, {}));
+}
+
+TEST(EvalObjects, SwappedIdentityIsASizeError) {
+  const Truth t = twoObjects();
+  std::vector<TrackRow> tracks;
+  addStill(tracks, 20);  // id 20 is object 2's by majority
+  for (std::size_t k = 0; k < 3; ++k) tracks.push_back(track(k, 10, 0.0, 0.0));
+  // Object 1 at its new place reported under object 2's id for a few scans.
+  for (std::size_t k = 4; k < 7; ++k) tracks.push_back(track(k, 20, 5.0, 0.0));
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  const MoveResult& m = s.moves[0];
+  EXPECT_TRUE(m.matched);
+  EXPECT_FALSE(m.correct);
+  EXPECT_TRUE(m.wrong_id);
+  EXPECT_TRUE(m.sizeError());
+  EXPECT_EQ(s.size_errors, 1u);
+  EXPECT_EQ(s.not_detected, 0u);
+  EXPECT_EQ(s.correct, 0u);
+}
+
+TEST(EvalObjects, DuplicateIdOnOneObjectIsASizeErrorButStillDetected) {
+  const Truth t = twoObjects();
+  std::vector<TrackRow> tracks;
+  addStill(tracks, 20);
+  for (std::size_t k = 0; k < 20; ++k) tracks.push_back(track(k, 10, k < 3 ? 0.0 : 5.0, 0.0));
+  tracks.push_back(track(5, 11, 5.1, 0.0));  // a second entry for the same object, once
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  const MoveResult& m = s.moves[0];
+  EXPECT_TRUE(m.correct);
+  EXPECT_DOUBLE_EQ(m.latency_s, 0.0);
+  EXPECT_TRUE(m.double_match);
+  EXPECT_FALSE(m.wrong_id);  // id 11's only row is on object 1: assigned to it as well
+  EXPECT_EQ(s.size_errors, 1u);
+  EXPECT_EQ(s.correct, 1u);
+}
+
+TEST(EvalObjects, OneIdOnTwoObjectsIsASizeError) {
+  Truth t = twoObjects();
+  // Object 2 stands right next to object 1's new place.
+  for (auto& r : t.rows) {
+    if (r.id == 2) r.x = 5.0, r.y = 0.2;
+  }
+  std::vector<TrackRow> tracks;
+  for (std::size_t k = 0; k < 20; ++k) tracks.push_back(track(k, 10, k < 3 ? 0.0 : 5.0, 0.1));
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  EXPECT_TRUE(s.moves[0].correct);
+  EXPECT_TRUE(s.moves[0].double_match);
+  EXPECT_EQ(s.size_errors, 1u);
+}
+
+TEST(EvalObjects, FalseObjectFarFromEveryBodyIsStatic) {
+  Truth t = twoObjects();
+  t.rows.push_back({0, 0, BodyKind::Person, 1, -3, -3, 0.4, 10});
+  std::vector<TrackRow> tracks;
+  addStill(tracks, 20);
+  // Id 30 sits on a wall for 4 scans, near the person once (0.4 m from its disc): mostly far.
+  for (std::size_t k = 1; k < 5; ++k) tracks.push_back(track(k, 30, 8.0, 8.0));
+  tracks.push_back(track(0, 30, -3.0, -2.4));
+  // Id 31 is near object 2 for 3 of its 5 rows: not static.
+  for (std::size_t k = 0; k < 3; ++k) tracks.push_back(track(k, 31, 0.0, 3.5));
+  for (std::size_t k = 3; k < 5; ++k) tracks.push_back(track(k, 31, 9.0, 9.0));
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  EXPECT_EQ(s.static_as_objects, 1u);
+  ASSERT_EQ(s.ids.size(), 3u);
+  EXPECT_FALSE(s.ids[0].static_object);
+  EXPECT_TRUE(s.ids[1].static_object);
+  EXPECT_EQ(s.ids[1].far_rows, 4u);
+  EXPECT_EQ(s.ids[1].matches, 0u);
+  EXPECT_FALSE(s.ids[2].static_object);
+}
+
+TEST(EvalObjects, LatencyMedianAndMaxInSecondsAndScans) {
+  EXPECT_DOUBLE_EQ(median({3, 1, 2}), 2.0);
+  EXPECT_DOUBLE_EQ(median({4, 1, 2, 3}), 2.5);
+  EXPECT_TRUE(std::isnan(median({})));
+
+  // Three moves of three objects, detected 0, 1 and 4 scans (0.5 s each) after visibility.
+  std::vector<TruthRow> rows;
+  std::vector<TruthMove> moves;
+  std::vector<TrackRow> tracks;
+  const int delays[3] = {0, 1, 4};
+  for (int o = 1; o <= 3; ++o) {
+    const double y = 2.0 * o;
+    moves.push_back({o, o, 1.0, 1.0, {0, y}, {4, y}});
+    for (std::size_t k = 0; k < 30; ++k) {
+      const double time = 0.5 * static_cast<double>(k);
+      const double x = time < 1.0 ? 0.0 : 4.0;
+      rows.push_back({k, time, BodyKind::Object, o, x, y, 0.2, 5});
+      if (k < 2 || k >= 2 + static_cast<std::size_t>(delays[o - 1])) {
+        tracks.push_back(track(k, 100 + o, x, y));
+      }
+    }
+  }
+  const ObjectScores s = evaluateObjects(rows, moves, tracks);
+  ASSERT_EQ(s.correct, 3u);
+  EXPECT_EQ(s.moves[0].visible_scan, 2u);
+  EXPECT_EQ(s.latency.count, 3u);
+  EXPECT_DOUBLE_EQ(s.latency.median_s, 0.5);
+  EXPECT_DOUBLE_EQ(s.latency.max_s, 2.0);
+  EXPECT_DOUBLE_EQ(s.latency.median_scans, 1.0);
+  EXPECT_DOUBLE_EQ(s.latency.max_scans, 4.0);
+}
+
+TEST(EvalObjects, TracksAfterTheTruthAreAnError) {
+  const Truth t = twoObjects(5);
+  EXPECT_THROW(evaluateObjects(t.rows, t.moves, {track(7, 1, 0, 0)}), std::invalid_argument);
+}
+
+// ---- cells ------------------------------------------------------------------------------
+
+// A 5 x 5 grid of 1 m cells on [0, 5) x [0, 5).
+GridGeometry fiveByFive() {
+  return {0.0, 0.0, 1.0, 5, 5};
+}
+
+CellMask maskOf(const char* rows[5]) {  // rows[0] is the top (iy = 4)
+  CellMask m(25, 0);
+  for (int r = 0; r < 5; ++r) {
+    for (int ix = 0; ix < 5; ++ix) m[(4 - r) * 5 + ix] = rows[r][ix] == '#';
+  }
+  return m;
+}
+
+TEST(EvalCells, SegmentTouchesTheCellsOnBothSidesOfABorder) {
+  const GridGeometry g = fiveByFive();
+  CellMask m(g.cells(), 0);
+  rasteriseSegment({{0.5, 2.0}, {2.5, 2.0}}, g, m);  // on the border between rows 1 and 2
+  const char* expected[5] = {".....", ".....", "###..", "###..", "....."};
+  EXPECT_EQ(m, maskOf(expected));
+}
+
+TEST(EvalCells, DiscCoversTheCellsItOverlaps) {
+  const GridGeometry g = fiveByFive();
+  CellMask m(g.cells(), 0);
+  rasteriseDisc({2.5, 2.5}, 0.6, g, m);
+  const char* expected[5] = {".....", "..#..", ".###.", "..#..", "....."};
+  EXPECT_EQ(m, maskOf(expected));
+}
+
+TEST(EvalCells, WallImagePixelsCoverTheCellsTheyOverlap) {
+  const GridGeometry g = fiveByFive();
+  sim::WallGrid w;
+  w.resolution = 0.5;
+  w.origin = {1.0, 1.0};
+  w.width = 2;
+  w.height = 1;
+  w.wall = {0, 1};  // the pixel [1.5, 2) x [1, 1.5): inside cell (1, 1) only
+  CellMask m(g.cells(), 0);
+  rasteriseWallGrid(w, g, m);
+  CellMask expected(g.cells(), 0);
+  expected[g.index(1, 1)] = 1;
+  EXPECT_EQ(m, expected);
+}
+
+TEST(EvalCells, SaDaOnAHandMadeMap) {
+  const GridGeometry g = fiveByFive();
+  CellTruth truth;
+  const char* walls[5] = {"#####", ".....", ".....", ".....", "....."};
+  const char* dyn[5] = {".....", ".##..", ".....", "...#.", "....."};
+  truth.static_cells = maskOf(walls);
+  truth.dynamic_cells = maskOf(dyn);
+  // S holds the wall at x = 1 and one row down at x = 0: x = 0, 1, 2 are kept (x = 0 and 2 by
+  // a 4-neighbour), x = 3 is lost; one dynamic cell is still occupied; the top-right cell was
+  // never observed.
+  const char* occ[5] = {".#...", "#....", ".....", "...#.", "....."};
+  const char* unseen[5] = {"....#", ".....", ".....", ".....", "....."};
+  const CellMask occupied = maskOf(occ), not_observed = maskOf(unseen);
+  std::vector<float> s_occ(g.cells());
+  CellMask observed(g.cells());
+  for (std::size_t i = 0; i < g.cells(); ++i) {
+    s_occ[i] = occupied[i] ? 0.9f : 0.2f;
+    observed[i] = !not_observed[i];
+  }
+  const CellScores c = scoreStaticMap(s_occ, truth, observed, g);
+  EXPECT_EQ(c.static_cells, 4u);  // the unobserved wall cell does not count
+  EXPECT_EQ(c.static_kept, 3u);
+  EXPECT_EQ(c.dynamic_cells, 3u);
+  EXPECT_EQ(c.dynamic_clear, 2u);
+  EXPECT_DOUBLE_EQ(c.sa, 75.0);
+  EXPECT_NEAR(c.da, 200.0 / 3, 1e-9);
+  EXPECT_NEAR(c.aa, std::sqrt(75.0 * 200.0 / 3), 1e-9);
+  EXPECT_NEAR(c.ha, 2 * 75.0 * (200.0 / 3) / (75.0 + 200.0 / 3), 1e-9);
+}
+
+TEST(EvalCells, PrecisionRecallWithOneCellTolerance) {
+  const GridGeometry g = fiveByFive();
+  const char* t[5] = {"#####", ".....", ".....", ".....", "....."};
+  const char* p[5] = {"###..", "#....", ".....", "..#..", "....."};
+  const CellMask observed(g.cells(), 1);
+  const PrecisionRecall pr = scoreOccupied(maskOf(p), maskOf(t), observed, g);
+  EXPECT_EQ(pr.predicted, 5u);
+  EXPECT_EQ(pr.predicted_right, 4u);  // the stray one in the middle is wrong
+  EXPECT_EQ(pr.truth, 5u);
+  EXPECT_EQ(pr.truth_found, 4u);  // x = 3 by its neighbour at x = 2; x = 4 missed
+  EXPECT_DOUBLE_EQ(pr.precision, 80.0);
+  EXPECT_DOUBLE_EQ(pr.recall, 80.0);
+}
+
+TEST(EvalCells, TruthKeepsObjectsOutOfDynamicUntilTheirFirstMove) {
+  const GridGeometry g = fiveByFive();
+  sim::StaticWorld world;
+  world.segments.push_back({{0.0, 4.5}, {5.0, 4.5}});  // the top row
+  std::vector<TruthRow> rows = {
+      {0, 0, BodyKind::Object, 1, 0.5, 0.5, 0.4, 5},  // before its move: not dynamic
+      {1, 1, BodyKind::Object, 1, 2.5, 0.5, 0.4, 5},  // after: dynamic
+      {1, 1, BodyKind::Object, 2, 4.5, 0.5, 0.4, 5},  // never moves: neither
+      {0, 0, BodyKind::Person, 1, 2.5, 4.5, 0.4, 5},  // on the wall: static wins
+      {1, 1, BodyKind::Person, 1, 2.5, 2.5, 0.4, 5},  // a person: dynamic
+  };
+  const std::vector<TruthMove> moves = {{1, 1, 0.5, 1.0, {0.5, 0.5}, {2.5, 0.5}}};
+  const CellTruth t = cellTruth(world, rows, moves, g);
+  const char* st[5] = {"#####", ".....", ".....", ".....", "....."};
+  const char* dy[5] = {".....", ".....", "..#..", ".....", "..#.."};
+  const char* end[5] = {"#####", ".....", "..#..", ".....", "..#.#"};
+  EXPECT_EQ(t.static_cells, maskOf(st));
+  EXPECT_EQ(t.dynamic_cells, maskOf(dy));
+  EXPECT_EQ(t.world_at_end, maskOf(end));
+}
+
+TEST(EvalCells, ObservedMeansOffThePriorInAnyLayer) {
+  const std::vector<float> a = {0.5f, 0.7f, 0.5f}, b = {0.5f, 0.5f, 0.3f};
+  EXPECT_EQ(observedCells({&a, &b}), (CellMask{0, 1, 1}));
+  EXPECT_TRUE(std::isnan(harmonicMean(std::nan(""), 50)));
+  EXPECT_DOUBLE_EQ(harmonicMean(0, 0), 0.0);
+}
+
+// ---- the command end to end -----------------------------------------------------------------
+
+TEST(EvalCommand, TinyScenarioWritesMetricsAndReport) {
+  const std::string src = DYNAMAP_SOURCE_DIR;
+  const std::string out = test::tempDir("eval_tiny") + "/result";
+  std::string output;
+  const int status = test::run(
+      std::string(DYNAMAP_EXE) + " eval --scenario " + src + "/config/scenarios/tiny.ini --truth " +
+          src + "/rawlogs/tiny --result " + out + " --config " + src + "/config/default.ini",
+      &output);
+  ASSERT_EQ(status, 0) << output;
+  EXPECT_NE(output.find("correctly detected"), std::string::npos) << output;
+  const std::string metrics = test::readFile(out + "/metrics.json");
+  const std::string report = test::readFile(out + "/report.md");
+  EXPECT_NE(metrics.find("\"scenario\": \"tiny\""), std::string::npos);
+  EXPECT_NE(metrics.find("\"moves_total\": 2,"), std::string::npos);
+  EXPECT_NE(metrics.find("\"dynamap_sa\": "), std::string::npos);
+  EXPECT_EQ(metrics.back(), '\n');
+  EXPECT_EQ(metrics.rfind("}\n"), metrics.size() - 2);
+  EXPECT_NE(report.find("# dynamap eval: tiny"), std::string::npos);
+  EXPECT_NE(report.find("| move |"), std::string::npos);
+
+  // Deterministic: a second evaluation of the same result gives the same bytes.
+  ASSERT_EQ(test::run(std::string(DYNAMAP_EXE) + " eval --scenario " + src +
+                          "/config/scenarios/tiny.ini --truth " + src +
+                          "/rawlogs/tiny/tiny --result " + out,
+                      &output),
+            0)
+      << output;
+  EXPECT_EQ(test::readFile(out + "/metrics.json"), metrics);
+
+  // --summary reads it back.
+  ASSERT_EQ(test::run(std::string(DYNAMAP_EXE) + " eval --summary " + out, &output), 0) << output;
+  EXPECT_NE(output.find("sim arena"), std::string::npos) << output;
+}
+
+/// A tracks.csv of a perfect tracker: every object seen by a beam, under its own number.
+void writePerfectTracks(const std::string& truth_csv, const std::string& tracks_csv) {
+  std::ifstream in(truth_csv);
+  std::ofstream out(tracks_csv);
+  out << "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n";
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::stringstream s(line);
+    std::vector<std::string> f;
+    for (std::string x; std::getline(s, x, ',');) f.push_back(x);
+    if (f[2] != "object" || f[7] == "0") continue;
+    out << f[0] << "," << f[1] << "," << f[3] << "," << f[4] << "," << f[5] << "," << f[6]
+        << ",0,0,0,0\n";
+  }
+}
+
+TEST(EvalCommand, HandWrittenPerfectTracksAreAllCorrect) {
+  const std::string src = DYNAMAP_SOURCE_DIR;
+  const std::string out = test::tempDir("eval_perfect") + "/result";
+  const std::string cmd = std::string(DYNAMAP_EXE) + " eval --scenario " + src +
+                          "/config/scenarios/tiny.ini --truth " + src + "/rawlogs/tiny --result " +
+                          out + " --config " + src + "/config/default.ini";
+  std::string output;
+  ASSERT_EQ(test::run(cmd, &output), 0) << output;  // maps the result first
+  writePerfectTracks(src + "/rawlogs/tiny/tiny.objects.csv", out + "/tracks.csv");
+  ASSERT_EQ(test::run(cmd, &output), 0) << output;
+  const std::string metrics = test::readFile(out + "/metrics.json");
+  EXPECT_NE(metrics.find("\"correctly_detected\": 2,"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\"not_detected\": 0,"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\"static_detected_as_objects\": 0,"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\"latency_max_s\": 0.000,"), std::string::npos) << metrics;
+
+  std::ofstream(out + "/tracks.csv", std::ios::app) << "12,2.4,7,1.0\n";
+  EXPECT_EQ(test::run(cmd, &output), 1) << output;
+  EXPECT_NE(output.find("tracks.csv:"), std::string::npos) << output;
+  EXPECT_NE(output.find("expected 10 fields, got 4"), std::string::npos) << output;
+}
+
+TEST(EvalCommand, MalformedTruthLineNamesFileAndLine) {
+  const std::string src = DYNAMAP_SOURCE_DIR;
+  const std::string dir = test::tempDir("eval_bad");
+  namespace fs = std::filesystem;
+  for (const char* ext : {".rawlog", ".moves.csv"}) {
+    fs::copy_file(src + "/rawlogs/tiny/tiny" + ext, dir + "/tiny" + ext);
+  }
+  {
+    std::ofstream o(dir + "/tiny.objects.csv");
+    o << "scan_index,t,kind,id,x,y,diameter,hits\n0,0.000,object,1,0.0,0.0,0.300,12\n"
+         "1,0.200,object,1,zero,0.0,0.300,12\n";
+  }
+  std::string output;
+  const int status =
+      test::run(std::string(DYNAMAP_EXE) + " eval --scenario " + src +
+                    "/config/scenarios/tiny.ini --truth " + dir + "/tiny --result " + dir + "/out",
+                &output);
+  EXPECT_EQ(status, 1) << output;
+  EXPECT_NE(output.find("tiny.objects.csv:3: x: not a number"), std::string::npos) << output;
+}
+
+// ---- absolute trajectory error ----------------------------------------------------------------
+
+TEST(EvalTrajectory, KnownOffsetsGiveTheirRmse) {
+  const std::vector<TimedPose> truth = {{0, 0, 0, 0}, {1, 1, 0, 0}, {2, 2, 0, 0}, {3, 3, 0, 0}};
+  // First pose exact, then 3 cm and 4 cm off, and 0.02 rad off in heading once.
+  const std::vector<TimedPose> est = {
+      {0, 0, 0, 0}, {1, 1.03, 0, 0}, {2, 2, 0.04, 0.02}, {3, 3, 0, 0}};
+  const TrajectoryError e = trajectoryError(est, truth);
+  EXPECT_EQ(e.matched, 4u);
+  EXPECT_EQ(e.unmatched, 0u);
+  EXPECT_NEAR(e.rmse_xy_m, std::sqrt((0.03 * 0.03 + 0.04 * 0.04) / 4), 1e-12);
+  EXPECT_NEAR(e.rmse_phi_rad, std::sqrt(0.02 * 0.02 / 4), 1e-12);
+  EXPECT_NEAR(e.max_xy_m, 0.04, 1e-12);
+}
+
+TEST(EvalTrajectory, AnEstimateInItsOwnFrameIsAnchoredAtTheFirstPose) {
+  // The truth starts at (5, 2) facing +y; the estimate is the same path from the origin facing
+  // +x (a SLAM run's own frame): after anchoring it is exact.
+  const std::vector<TimedPose> truth = {
+      {10, 5, 2, M_PI / 2}, {11, 5, 3, M_PI / 2}, {12, 4, 3, M_PI}};
+  const std::vector<TimedPose> est = {{10, 0, 0, 0}, {11, 1, 0, 0}, {12, 1, 1, M_PI / 2}};
+  const TrajectoryError e = trajectoryError(est, truth);
+  EXPECT_EQ(e.matched, 3u);
+  EXPECT_NEAR(e.rmse_xy_m, 0, 1e-9);
+  EXPECT_NEAR(e.rmse_phi_rad, 0, 1e-9);
+}
+
+TEST(EvalTrajectory, PosesWithoutTruthAtTheirTimeAreCountedNotScored) {
+  const std::vector<TimedPose> truth = {{0, 0, 0, 0}, {1, 1, 0, 0}};
+  const std::vector<TimedPose> est = {{0, 0, 0, 0}, {0.5, 9, 9, 0}, {1.0005, 1.1, 0, 0}};
+  const TrajectoryError e = trajectoryError(est, truth);
+  EXPECT_EQ(e.matched, 2u);
+  EXPECT_EQ(e.unmatched, 1u);
+  EXPECT_NEAR(e.rmse_xy_m, std::sqrt(0.01 / 2), 1e-9);
+  EXPECT_TRUE(std::isnan(trajectoryError({{7, 0, 0, 0}}, truth).rmse_xy_m));
+}
+
+TEST(EvalTrajectory, HeadingErrorWrapsAroundPi) {
+  const std::vector<TimedPose> truth = {{0, 0, 0, 0}, {1, 0, 0, M_PI - 0.01}};
+  const std::vector<TimedPose> est = {{0, 0, 0, 0}, {1, 0, 0, -M_PI + 0.01}};
+  EXPECT_NEAR(trajectoryError(est, truth).rmse_phi_rad, std::sqrt(0.02 * 0.02 / 2), 1e-9);
+}
+
+}  // namespace
+}  // namespace dynamap

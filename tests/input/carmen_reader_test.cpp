@@ -1,0 +1,399 @@
+// The CARMEN reader against a log written by hand from the format: old and new laser lines, PARAM
+// lines, ODOM lines, comments and other message types.
+
+#include "dynamap/input/carmen_reader.h"
+
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/math/wrap2pi.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace dynamap {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kDeg = M_PI / 180.0;
+
+/// A fresh directory per test, removed afterwards.
+class CarmenTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("dynamap_carmen_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+  }
+  std::string writeGz(const std::string& name, const std::string& text) const {
+    const std::string path = (dir_ / name).string();
+    mrpt::io::CFileGZOutputStream out(path);
+    out.Write(text.data(), text.size());
+    return path;
+  }
+
+  fs::path dir_;
+};
+
+std::string num(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+/// Range of beam i in the sample lines: 1 m + 1 cm per beam.
+double sampleRange(std::size_t i) {
+  return 1.0 + 0.01 * static_cast<double>(i);
+}
+
+std::string ranges(std::size_t n) {
+  std::string s;
+  for (std::size_t i = 0; i < n; ++i) s += " " + num(sampleRange(i));
+  return s;
+}
+
+// The sample log, one line per entry; its line numbers are used below.
+const std::vector<std::string>& sampleLines() {
+  static const std::vector<std::string> kLines = {
+      /* 1*/ "# CARMEN Logfile",
+      /* 2*/ "# message_name [message contents] ipc_timestamp ipc_hostname logger_timestamp",
+      /* 3*/ "PARAM robot_frontlaser_offset 0.25 1000.0 host 1000.0",
+      /* 4*/ "PARAM laser_front_laser_resolution 1.0 1000.0 host 1000.0",
+      /* 5*/ "PARAM robot_front_laser_max 50.0 1000.0 host 1000.0",
+      /* 6*/ "PARAM robot_use_sonar off 1000.0 host 1000.0",
+      /* 7*/ "SYNC start 1000.5 host 1000.5",
+      /* 8*/ "ODOM 1.0 2.0 0.1 0.3 0.05 0 1001.0 host 1001.5",
+      /* 9*/ "FLASER 180" + ranges(180) + " 5.0 6.0 0.5 4.0 5.5 0.4 1001.25 host 1001.75",
+      /*10*/ "NEFF 10",
+      /*11*/ "ODOM 5.0 6.0 0.5 0 0 0 0 host 0",
+      /*12*/ "",
+      /*13*/ "RLASER 360" + ranges(360) + " 7.0 8.0 -0.5 7.5 8.5 -0.25 1002.0 host 1002.25",
+      /*14*/ "ROBOTLASER1 0 " + num(-M_PI / 2) + " " + num(M_PI) + " " + num(M_PI / 180) +
+          " 80.0 0.01 0 181" + ranges(181) + " 0 2.0 3.1 " + num(M_PI / 2) + " 2.0 3.0 " +
+          num(M_PI / 2) + " 0.3 0.05 1 0.5 0 1002.5 host 1002.75",
+  };
+  return kLines;
+}
+
+std::string joinLines(const std::vector<std::string>& lines) {
+  std::string s;
+  for (const auto& l : lines) s += l + "\n";
+  return s;
+}
+
+std::vector<CarmenEvent> readAll(const std::string& path, const CarmenOptions& options = {},
+                                 SourceStats* stats = nullptr) {
+  CarmenReader reader(path, options);
+  std::vector<CarmenEvent> events;
+  CarmenEvent e;
+  while (reader.next(e)) events.push_back(e);
+  if (stats) *stats = reader.stats();
+  return events;
+}
+
+/// The world-frame angle of beam i relative to the robot: sensor yaw + MRPT's beam angle.
+double beamAngle(const mrpt::obs::CObservation2DRangeScan& s, std::size_t i) {
+  return s.sensorPose.yaw() + s.getScanAngle(i);
+}
+
+TEST_F(CarmenTest, ReadsEveryScanAndOdomLineWithTheLogsTimestamps) {
+  SourceStats stats;
+  const auto events = readAll(write("sample.log", joinLines(sampleLines())), {}, &stats);
+  ASSERT_EQ(events.size(), 4u);  // ODOM, FLASER, RLASER, ROBOTLASER1 (the 0-stamped ODOM skipped)
+  EXPECT_EQ(events[0].kind, CarmenEvent::Kind::Odometry);
+  EXPECT_DOUBLE_EQ(events[0].t, 1001.0);
+  EXPECT_DOUBLE_EQ(events[0].tv, 0.3);
+  const double times[] = {1001.25, 1002.0, 1002.5};  // the ipc timestamps
+  const std::size_t lines[] = {9, 13, 14};
+  for (int k = 0; k < 3; ++k) {
+    const CarmenEvent& e = events[k + 1];
+    ASSERT_EQ(e.kind, CarmenEvent::Kind::Scan);
+    EXPECT_DOUBLE_EQ(e.t, times[k]);
+    EXPECT_EQ(e.line, lines[k]);
+    EXPECT_NEAR(mrpt::Clock::toDouble(e.scan->timestamp), times[k], 1e-6);
+    EXPECT_EQ(e.scan->sensorLabel, "LASER");
+    EXPECT_TRUE(e.scan->rightToLeft);
+  }
+  EXPECT_EQ(stats.records, sampleLines().size());
+  EXPECT_EQ(stats.scans, 3u);
+  EXPECT_EQ(stats.skipped["comment"], 2u);
+  EXPECT_EQ(stats.skipped["line type SYNC"], 1u);
+  EXPECT_EQ(stats.skipped["line type NEFF"], 1u);
+  EXPECT_EQ(stats.skipped["PARAM not used"], 1u);
+  EXPECT_EQ(stats.skipped["ODOM with zero timestamp"], 1u);
+  EXPECT_EQ(stats.skipped["empty line"], 1u);
+  EXPECT_EQ(stats.skipped.count("bad line"), 0u);
+}
+
+TEST_F(CarmenTest, OldFormatFrontLaserTakesStepRangeAndOffsetFromParams) {
+  const auto events = readAll(write("sample.log", joinLines(sampleLines())));
+  const auto& s = *events[1].scan;
+  ASSERT_EQ(s.getScanSize(), 180u);
+  EXPECT_NEAR(s.aperture, 179 * kDeg, 1e-6);  // MRPT's aperture spans first to last beam
+  EXPECT_NEAR(beamAngle(s, 0), -90 * kDeg, 1e-6);
+  EXPECT_NEAR(beamAngle(s, 1) - beamAngle(s, 0), 1 * kDeg, 1e-6);
+  EXPECT_NEAR(beamAngle(s, 179), 89 * kDeg, 1e-6);
+  EXPECT_NEAR(s.sensorPose.x(), 0.25, 1e-9);
+  EXPECT_NEAR(s.sensorPose.y(), 0.0, 1e-9);
+  EXPECT_FLOAT_EQ(s.maxRange, 50.0f);
+  EXPECT_NEAR(s.getScanRange(7), sampleRange(7), 1e-5);
+  EXPECT_TRUE(s.getScanRangeValidity(7));
+}
+
+TEST_F(CarmenTest, RearLaserWithoutParamsFacesBackwardsWithHalfDegreeBeams) {
+  const auto events = readAll(write("sample.log", joinLines(sampleLines())));
+  const auto& s = *events[2].scan;
+  ASSERT_EQ(s.getScanSize(), 360u);
+  EXPECT_NEAR(beamAngle(s, 1) - beamAngle(s, 0), 0.5 * kDeg, 1e-6);
+  // First beam at -90 deg in the rear laser's frame, which faces backwards.
+  EXPECT_NEAR(mrpt::math::wrapToPi(beamAngle(s, 0) - M_PI), -90 * kDeg, 1e-6);
+  EXPECT_NEAR(s.sensorPose.x(), 0.0, 1e-9);
+  EXPECT_FLOAT_EQ(s.maxRange, 81.0f);  // the default
+}
+
+TEST_F(CarmenTest, RobotLaserTakesItsGeometryAndMountFromTheLine) {
+  const auto events = readAll(write("sample.log", joinLines(sampleLines())));
+  const auto& s = *events[3].scan;
+  ASSERT_EQ(s.getScanSize(), 181u);
+  EXPECT_NEAR(s.aperture, M_PI, 1e-6);
+  EXPECT_NEAR(beamAngle(s, 0), -M_PI / 2, 1e-6);
+  EXPECT_NEAR(beamAngle(s, 180), M_PI / 2, 1e-6);
+  // laser pose (2, 3.1, 90 deg) seen from robot pose (2, 3, 90 deg): 10 cm ahead.
+  EXPECT_NEAR(s.sensorPose.x(), 0.1, 1e-9);
+  EXPECT_NEAR(s.sensorPose.y(), 0.0, 1e-9);
+  EXPECT_FLOAT_EQ(s.maxRange, 80.0f);
+}
+
+TEST_F(CarmenTest, InvalidBeamsAreZeroMaxRangeAndNonFinite) {
+  std::string line = "FLASER 180";
+  for (int i = 0; i < 180; ++i) {
+    line += i == 0 ? " 0" : i == 1 ? " 50" : i == 2 ? " nan" : i == 3 ? " 49.99" : " -1";
+  }
+  line += " 0 0 0 0 0 0 1.0 host 1.0";
+  const auto events =
+      readAll(write("beams.log", "PARAM robot_front_laser_max 50.0 0 host 0\n" + line + "\n"));
+  const auto& s = *events.at(0).scan;
+  EXPECT_FALSE(s.getScanRangeValidity(0));
+  EXPECT_FALSE(s.getScanRangeValidity(1));
+  EXPECT_FALSE(s.getScanRangeValidity(2));
+  EXPECT_TRUE(s.getScanRangeValidity(3));
+  EXPECT_FALSE(s.getScanRangeValidity(4));
+}
+
+TEST_F(CarmenTest, PosesUnderGroundTruthAndOdometry) {
+  const std::string path = write("sample.log", joinLines(sampleLines()));
+  auto gt = openCarmenSource(path, PoseSource::Auto, {});
+  EXPECT_EQ(gt->poseSource(), PoseSource::GroundTruth);
+  auto odo = openCarmenSource(path, PoseSource::Odometry, {});
+  EXPECT_EQ(odo->poseSource(), PoseSource::Odometry);
+  // Ground truth: the line's pose; odometry: FLASER/RLASER odom fields, ROBOTLASER1 the last ODOM.
+  const mrpt::poses::CPose2D want_gt[] = {{5, 6, 0.5}, {7, 8, -0.5}, {2, 3, M_PI / 2}};
+  const mrpt::poses::CPose2D want_odo[] = {{4, 5.5, 0.4}, {7.5, 8.5, -0.25}, {1, 2, 0.1}};
+  ScanRecord r;
+  for (std::size_t k = 0; k < 3; ++k) {
+    ASSERT_TRUE(gt->next(r));
+    EXPECT_EQ(r.index, k);
+    EXPECT_LT((r.pose - want_gt[k]).norm(), 1e-9) << k;
+    EXPECT_NEAR(r.pose.phi(), want_gt[k].phi(), 1e-9) << k;
+    ASSERT_TRUE(odo->next(r));
+    EXPECT_EQ(r.index, k);
+    EXPECT_LT((r.pose - want_odo[k]).norm(), 1e-9) << k;
+    EXPECT_NEAR(r.pose.phi(), want_odo[k].phi(), 1e-9) << k;
+  }
+  EXPECT_FALSE(gt->next(r));
+  EXPECT_FALSE(odo->next(r));
+  EXPECT_EQ(gt->stats().scans, 3u);
+  EXPECT_THROW(openCarmenSource(path, PoseSource::Simplemap, {}), InputError);
+}
+
+TEST_F(CarmenTest, RobotLaserWithoutOdometryIsAnErrorUnderOdometryOnly) {
+  const auto& l = sampleLines();
+  const std::string path = write("robotlaser.log", l[13] + "\n");
+  ScanRecord r;
+  EXPECT_TRUE(openCarmenSource(path, PoseSource::GroundTruth, {})->next(r));
+  try {
+    openCarmenSource(path, PoseSource::Odometry, {})->next(r);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("robotlaser.log:1:"), std::string::npos) << e.what();
+  }
+}
+
+/// The sample with line `at` (1-based) replaced by `bad`.
+std::string sampleWithBadLine(std::size_t at, const std::string& bad) {
+  auto lines = sampleLines();
+  lines.at(at - 1) = bad;
+  return joinLines(lines);
+}
+
+TEST_F(CarmenTest, MalformedLinesAreErrorsNamingFileAndLine) {
+  const std::vector<std::pair<std::size_t, std::string>> cases = {
+      {9, "FLASER 180 1.0 2.0"},                                    // too few fields
+      {9, "FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1.0 host 1.0 7.0"},     // count does not match
+      {9, "FLASER 3 1.0 x 3.0 0 0 0 0 0 0 1.0 host 1.0"},           // a non-number
+      {9, "FLASER many 1.0 2.0"},                                   // a non-count
+      {8, "ODOM 1.0 2.0 0.1 0.3 0.05 0 1001.0 host"},               // ODOM one short
+      {8, "ODOM 1.0 2.0 nan 0.3 0.05 0 1001.0 host 1001.5"},        // non-finite pose
+      {14, "ROBOTLASER1 0 -1.57 3.14 0.0174 80 0.01 0 181 1 2 3"},  // truncated
+      {5, "PARAM robot_front_laser_max fifty 0 host 0"},            // a PARAM that matters
+  };
+  for (const auto& [at, bad] : cases) {
+    const std::string path = write("bad.log", sampleWithBadLine(at, bad));
+    try {
+      readAll(path);
+      ADD_FAILURE() << "no error for: " << bad;
+    } catch (const InputError& e) {
+      const std::string want = path + ":" + std::to_string(at) + ":";
+      EXPECT_EQ(std::string(e.what()).rfind(want, 0), 0u) << e.what() << " for: " << bad;
+    }
+  }
+}
+
+TEST_F(CarmenTest, SkipBadLinesCountsThem) {
+  auto lines = sampleLines();
+  lines[8] = "FLASER 180 1.0 2.0";
+  lines[10] = "ODOM a b c d e f g h i";
+  CarmenOptions options;
+  options.skip_bad_lines = true;
+  SourceStats stats;
+  const auto events = readAll(write("bad.log", joinLines(lines)), options, &stats);
+  EXPECT_EQ(stats.scans, 2u);
+  EXPECT_EQ(stats.skipped["bad line"], 2u);
+  EXPECT_EQ(stats.records, lines.size());
+  EXPECT_EQ(events.size(), 3u);
+}
+
+TEST_F(CarmenTest, OverlongLineIsAnErrorNamingIt) {
+  CarmenOptions options;
+  options.max_line_length = 1000;  // the FLASER line (9) is longer
+  try {
+    readAll(write("long.log", joinLines(sampleLines())), options);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("long.log:9: line longer than 1000"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(CarmenTest, MissingFileIsAnInputErrorNamingIt) {
+  const std::string path = (dir_ / "missing.log").string();
+  try {
+    CarmenReader reader(path, {});
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": no such file");
+  }
+}
+
+TEST_F(CarmenTest, GzCopyReadsTheSame) {
+  const std::string text = joinLines(sampleLines());
+  SourceStats plain_stats, gz_stats;
+  const auto plain = readAll(write("sample.log", text), {}, &plain_stats);
+  const auto gz = readAll(writeGz("sample.log.gz", text), {}, &gz_stats);
+  ASSERT_EQ(plain.size(), gz.size());
+  for (std::size_t k = 0; k < plain.size(); ++k) {
+    EXPECT_EQ(plain[k].kind, gz[k].kind);
+    EXPECT_EQ(plain[k].line, gz[k].line);
+    EXPECT_DOUBLE_EQ(plain[k].t, gz[k].t);
+    EXPECT_EQ(plain[k].pose, gz[k].pose);
+    if (plain[k].scan) {
+      EXPECT_EQ(plain[k].scan->getScanSize(), gz[k].scan->getScanSize());
+      EXPECT_EQ(plain[k].scan->getScanRange(5), gz[k].scan->getScanRange(5));
+    }
+  }
+  EXPECT_EQ(plain_stats.records, gz_stats.records);
+  EXPECT_EQ(plain_stats.skipped, gz_stats.skipped);
+}
+
+TEST_F(CarmenTest, WindowsLineEndsAndNoFinalNewlineAreRead) {
+  std::string text;
+  for (const auto& l : sampleLines()) text += l + "\r\n";
+  text.resize(text.size() - 2);
+  SourceStats stats;
+  readAll(write("crlf.log", text), {}, &stats);
+  EXPECT_EQ(stats.scans, 3u);
+  EXPECT_EQ(stats.records, sampleLines().size());
+}
+
+TEST_F(CarmenTest, LooksLikeCarmenByContent) {
+  const std::string text = joinLines(sampleLines());
+  EXPECT_TRUE(looksLikeCarmen(write("a.log", text)));
+  EXPECT_TRUE(looksLikeCarmen(writeGz("a.log.gz", text)));
+  EXPECT_TRUE(looksLikeCarmen(write("odom_first.txt", "ODOM 0 0 0 0 0 0 0.1 h 0.1\n")));
+  std::string binary(4096, '\0');
+  std::mt19937 rng(42);
+  for (auto& c : binary) c = static_cast<char>(rng());
+  EXPECT_FALSE(looksLikeCarmen(write("random.bin", binary)));
+  EXPECT_FALSE(looksLikeCarmen(write("config.ini", "[map]\nresolution = 0.05\n")));
+  EXPECT_FALSE(looksLikeCarmen(write("empty.log", "")));
+  EXPECT_FALSE(looksLikeCarmen(write("comments.log", "# only a comment\n")));
+  EXPECT_FALSE(looksLikeCarmen((dir_ / "missing.log").string()));
+}
+
+TEST(CarmenGeometry, StepFromBeamCountWhenNoParam) {
+  const CarmenLaserParams none;
+  const CarmenOptions defaults;
+  for (const auto& [beams, step_deg] : std::vector<std::pair<std::size_t, double>>{
+           {180, 1.0}, {181, 1.0}, {360, 0.5}, {361, 0.5}}) {
+    const LaserGeometry g = laserGeometry(beams, none, defaults);
+    EXPECT_NEAR(g.start, -90 * kDeg, 1e-12) << beams;
+    EXPECT_NEAR(g.step, step_deg * kDeg, 1e-12) << beams;
+  }
+}
+
+TEST(CarmenGeometry, ParamsAndOverride) {
+  CarmenLaserParams params;
+  params.resolution_deg = 1.0;
+  params.fov_deg = 100;
+  EXPECT_NEAR(laserGeometry(100, params, {}).step, 1.0 * kDeg, 1e-12);
+  EXPECT_NEAR(laserGeometry(100, params, {}).start, -50 * kDeg, 1e-12);
+  CarmenOptions override_fov;
+  override_fov.fov_deg = 90;  // wins over the PARAMs; the step follows from the count
+  EXPECT_NEAR(laserGeometry(180, params, override_fov).step, 0.5 * kDeg, 1e-12);
+  EXPECT_NEAR(laserGeometry(180, params, override_fov).start, -45 * kDeg, 1e-12);
+}
+
+TEST(CarmenParse, LineTypes) {
+  const CarmenLine odom = parseCarmenLine("ODOM 1 2 3 0.5 0.1 0 12.5 robot 13.0");
+  ASSERT_TRUE(odom.odometry);
+  EXPECT_DOUBLE_EQ(odom.odometry->pose.y, 2);
+  EXPECT_DOUBLE_EQ(odom.odometry->t, 12.5);  // ipc, not logger
+  EXPECT_EQ(parseCarmenLine("  # comment").type, "#");
+  EXPECT_EQ(parseCarmenLine(" \t").type, "");
+  // Vertical tabs and form feeds separate fields too: a line of them is blank, not a crash.
+  EXPECT_EQ(parseCarmenLine("\v").type, "");
+  EXPECT_EQ(parseCarmenLine(" \f\v ").type, "");
+  const CarmenLine sync = parseCarmenLine("SYNC tag 1 h 1");
+  EXPECT_EQ(sync.type, "SYNC");
+  EXPECT_FALSE(sync.laser || sync.odometry || sync.param);
+  const CarmenLine param = parseCarmenLine("PARAM robot_frontlaser_offset 0.0 nohost 0");
+  ASSERT_TRUE(param.param);
+  EXPECT_EQ(param.param->second, "0.0");
+  EXPECT_THROW(parseCarmenLine("FLASER 1 1.0 0 0 0 0 0 0 1 h 1"), CarmenParseError);  // 1 beam
+}
+
+TEST(CarmenParams, OnlyTheLaserOnesMatter) {
+  CarmenParams p;
+  EXPECT_TRUE(p.applyParam("robot_frontlaser_offset", "-0.04"));
+  EXPECT_TRUE(p.applyParam("laser_front_laser_fov", "180"));
+  EXPECT_FALSE(p.applyParam("robot_use_sonar", "off"));
+  EXPECT_THROW(p.applyParam("laser_front_laser_resolution", "0"), CarmenParseError);
+  EXPECT_DOUBLE_EQ(*p.front.offset_x, -0.04);
+  EXPECT_DOUBLE_EQ(*p.front.fov_deg, 180);
+  EXPECT_FALSE(p.rear.offset_x);
+}
+
+}  // namespace
+}  // namespace dynamap

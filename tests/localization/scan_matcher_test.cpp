@@ -1,0 +1,229 @@
+// ScanMatcher: aligning a scan to the static map S, and the Mapper's fallback to odometry.
+
+#include "dynamap/localization/scan_matcher.h"
+
+#include <gtest/gtest.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <cmath>
+#include <vector>
+
+#include "../test_util.h"
+#include "dynamap/base/ini.h"
+#include "dynamap/pipeline/mapper.h"
+#include "dynamap/sim/world.h"
+
+namespace dynamap {
+namespace {
+
+using mrpt::poses::CPose2D;
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr int kBeams = 361;
+constexpr double kAperture = 2 * M_PI * 360.0 / 361.0;  // all round, no beam twice
+constexpr double kRange = 8.0;
+
+/// A 10 x 7 m room with a pillar and a short wall inside, so every direction of the pose is
+/// pinned down; walls off the grid's cell borders and at an angle.
+sim::StaticWorld room() {
+  sim::StaticWorld w;
+  auto wall = [&](double x0, double y0, double x1, double y1) {
+    w.segments.push_back({{x0, y0}, {x1, y1}});
+  };
+  wall(-5.013, -3.488, 4.987, -3.488);
+  wall(4.987, -3.488, 4.987, 3.512);
+  wall(4.987, 3.512, -5.013, 3.512);
+  wall(-5.013, 3.512, -5.013, -3.488);
+  wall(1.2, 1.0, 2.7, 2.1);  // at an angle
+  wall(-2.0, -1.0, -2.0, 0.4);
+  wall(-2.0, 0.4, -1.3, 0.4);
+  return w;
+}
+
+/// A noise-free scan of `world` (and `bodies`) from `pose`.
+mrpt::obs::CObservation2DRangeScan::Ptr scanFrom(const sim::StaticWorld& world, const CPose2D& pose,
+                                                 const std::vector<sim::Body>& bodies = {}) {
+  std::vector<float> ranges(kBeams, 0.0f);
+  for (int i = 0; i < kBeams; ++i) {
+    const double a = -kAperture / 2 + i * kAperture / (kBeams - 1);
+    const sim::RayHit h = sim::castRay(world, bodies, {pose.x(), pose.y()}, pose.phi() + a, kRange);
+    if (h.hit() && h.range < kRange) ranges[i] = static_cast<float>(h.range);
+  }
+  return test::makeScan(ranges, kAperture, 0.0, static_cast<float>(kRange));
+}
+
+/// S after clean scans from a few poses around the middle of the room.
+DynamicGridMap mappedRoom(const sim::StaticWorld& world, double resolution = 0.05) {
+  DynamicMapOptions options;
+  options.resolution = resolution;
+  DynamicGridMap map(options);
+  for (const CPose2D& p : {CPose2D(0, 0, 0), CPose2D(0.5, 0.3, 0.4), CPose2D(-0.6, -0.5, -0.3),
+                           CPose2D(1.0, -1.0, 1.2), CPose2D(-1.0, 1.2, 2.5)}) {
+    for (int k = 0; k < 3; ++k) map.insertObservation(*scanFrom(world, p), mrpt::poses::CPose3D(p));
+  }
+  return map;
+}
+
+double headingError(const CPose2D& a, const CPose2D& b) {
+  return std::abs(mrpt::math::wrapToPi(a.phi() - b.phi()));
+}
+
+// S knows a wall only to the cell it falls in: the match is as exact as S's cells, about a
+// third of a cell here. With 2 cm cells that is within 1 cm; with the default 5 cm, 2.5 cm.
+void expectRecovered(double resolution, double tolerance_m) {
+  const auto world = room();
+  const DynamicGridMap map = mappedRoom(world, resolution);
+  const ScanMatcher matcher({}, kRange);
+  const CPose2D truth(0.3, -0.2, 0.15);
+  const auto scan = scanFrom(world, truth);
+  // Offsets up to overlap_distance_m (0.1 m) from every wall; turns up to 3 degrees.
+  for (const CPose2D& offset :
+       {CPose2D(0.07, -0.05, 2 * kDeg), CPose2D(-0.06, 0.05, -3 * kDeg), CPose2D(0.0, 0.08, 0.0)}) {
+    SCOPED_TRACE(offset.asString());
+    const CPose2D guess = truth + offset;
+    const ScanMatchResult r = matcher.match(map, *scan, guess);
+    ASSERT_TRUE(r.matched) << r.fallback_reason;
+    EXPECT_LT(std::hypot(r.pose.x() - truth.x(), r.pose.y() - truth.y()), tolerance_m);
+    EXPECT_LT(headingError(r.pose, truth), 0.5 * kDeg);
+    EXPECT_GT(r.inlier_ratio, 0.8);
+    EXPECT_EQ(r.degenerate_directions, 0);
+  }
+}
+
+TEST(ScanMatcher, RecoversAKnownOffsetWithinACentimetreAndHalfADegree) {
+  expectRecovered(0.02, 0.01);
+}
+
+TEST(ScanMatcher, RecoversAKnownOffsetWithinHalfACellAtFiveCentimetres) {
+  expectRecovered(0.05, 0.025);
+}
+
+// Drift beyond the overlap gate (0.1 m), turned too: the grid search before ICP starts it from
+// the best pose within search_xy_m and search_deg.
+TEST(ScanMatcher, DriftBeyondTheOverlapGateIsRecovered) {
+  const auto world = room();
+  const DynamicGridMap map = mappedRoom(world);
+  const CPose2D truth(0.3, -0.2, 0.15);
+  const auto scan = scanFrom(world, truth);
+  const CPose2D guess = truth + CPose2D(0.11, -0.09, 1.5 * kDeg);  // 0.14 m
+  const ScanMatchResult r = ScanMatcher({}, kRange).match(map, *scan, guess);
+  ASSERT_TRUE(r.matched) << r.fallback_reason;
+  EXPECT_LT(std::hypot(r.pose.x() - truth.x(), r.pose.y() - truth.y()), 0.025);
+  EXPECT_LT(headingError(r.pose, truth), 0.5 * kDeg);
+}
+
+TEST(ScanMatcher, AMovedObjectInViewDoesNotPullThePose) {
+  const auto world = room();
+  const DynamicGridMap map = mappedRoom(world);  // S knows the middle of the room as free
+  const ScanMatcher matcher({}, kRange);
+  const CPose2D truth(0.2, 0.1, -0.1);
+  const CPose2D guess = truth + CPose2D(0.06, 0.05, 2 * kDeg);
+  // A 0.8 m object now stands 1.5 m in front of the robot, where S holds free space, and near
+  // a wall it hides partly.
+  const std::vector<sim::Body> moved = {{{1.6, -0.1}, 0.4, sim::BodyKind::Object, 1},
+                                        {{3.4, 2.9}, 0.3, sim::BodyKind::Object, 2}};
+  const ScanMatchResult clean = matcher.match(map, *scanFrom(world, truth), guess);
+  const ScanMatchResult with = matcher.match(map, *scanFrom(world, truth, moved), guess);
+  ASSERT_TRUE(clean.matched) << clean.fallback_reason;
+  ASSERT_TRUE(with.matched) << with.fallback_reason;
+  EXPECT_LT(with.inlier_ratio, clean.inlier_ratio);  // the object was in view
+  EXPECT_LT(std::hypot(with.pose.x() - clean.pose.x(), with.pose.y() - clean.pose.y()), 0.005);
+  EXPECT_LT(headingError(with.pose, clean.pose), 0.2 * kDeg);
+  EXPECT_LT(std::hypot(with.pose.x() - truth.x(), with.pose.y() - truth.y()), 0.025);
+}
+
+TEST(ScanMatcher, APoorMatchKeepsTheGuessAndSaysWhy) {
+  const auto world = room();
+  const DynamicGridMap map = mappedRoom(world);
+  const ScanMatcher matcher({}, kRange);
+  const CPose2D truth(0.3, -0.2, 0.15);
+  // Odometry 1 m and 20 degrees off: no match within max_correction_m.
+  const CPose2D guess = truth + CPose2D(1.0, 0.5, 20 * kDeg);
+  const ScanMatchResult r = matcher.match(map, *scanFrom(world, truth), guess);
+  EXPECT_FALSE(r.matched);
+  ASSERT_NE(r.fallback_reason, nullptr);
+  EXPECT_EQ(r.pose, guess);
+  // Nothing mapped yet: nothing to match against.
+  const ScanMatchResult empty = matcher.match(DynamicGridMap{}, *scanFrom(world, truth), truth);
+  EXPECT_FALSE(empty.matched);
+  EXPECT_STREQ(empty.fallback_reason, "too few map points");
+}
+
+TEST(ScanMatcher, SameInputGivesTheSamePose) {
+  const auto world = room();
+  const DynamicGridMap map = mappedRoom(world);
+  const ScanMatcher matcher({}, kRange);
+  const auto scan = scanFrom(world, CPose2D(0.3, -0.2, 0.15));
+  const CPose2D guess(0.35, -0.25, 0.2);
+  const ScanMatchResult a = matcher.match(map, *scan, guess), b = matcher.match(map, *scan, guess);
+  EXPECT_EQ(a.pose.x(), b.pose.x());
+  EXPECT_EQ(a.pose.y(), b.pose.y());
+  EXPECT_EQ(a.pose.phi(), b.pose.phi());
+}
+
+// The Mapper: odometry that drifts is corrected; a jump it cannot match falls back and is counted.
+TEST(ScanMatchingMapper, CorrectsDriftAndCountsFallbacks) {
+  const auto world = room();
+  MapConfig config;
+  config.poses = PoseSource::ScanMatching;
+  config.objects.enabled = false;
+  Mapper mapper(config);
+  // The robot drives along x; odometry over-reads every step by 3 cm and 0.5 degrees.
+  CPose2D odo(0, 0, 0), truth(0, 0, 0);
+  const CPose2D step(0.1, 0, 0), drift(0.03, 0, 0.5 * kDeg);
+  std::vector<CPose2D> truths;
+  for (int i = 0; i < 20; ++i) {
+    if (i > 0) {
+      truth = truth + step;
+      odo = odo + step + drift;
+    }
+    if (i == 12) odo = odo + CPose2D(0.8, 0.6, 25 * kDeg);  // a slip the scan contradicts
+    ScanRecord rec;
+    rec.index = static_cast<std::size_t>(i);
+    rec.t = i * 0.2;
+    rec.pose = odo;
+    rec.scan = scanFrom(world, truth);
+    mapper.process(rec);
+    truths.push_back(truth);
+  }
+  const ScanMatchCounts& c = mapper.scanMatchCounts();
+  EXPECT_EQ(c.fallbacks.at("too few map points"), 1u);  // the first scan: S is empty
+  EXPECT_EQ(c.fallbackTotal(), 2u);                     // ... and the slip
+  EXPECT_EQ(c.matched, 18u);
+  ASSERT_EQ(mapper.usedPoses().size(), 20u);
+  const CPose2D slipped = mapper.usedPoses()[11].pose + step + drift + CPose2D(0.8, 0.6, 25 * kDeg);
+  EXPECT_NEAR(mapper.usedPoses()[12].pose.x(), slipped.x(), 1e-9);  // odometry's
+  EXPECT_NEAR(mapper.usedPoses()[12].pose.y(), slipped.y(), 1e-9);
+  // Before the slip every pose is on the truth, to S's 5 cm cells; odometry is 33 cm off.
+  for (int i = 0; i < 12; ++i) {
+    const CPose2D& p = mapper.usedPoses()[i].pose;
+    EXPECT_LT(std::hypot(p.x() - truths[i].x(), p.y() - truths[i].y()), 0.025) << "scan " << i;
+    EXPECT_LT(headingError(p, truths[i]), 0.5 * kDeg) << "scan " << i;
+  }
+}
+
+TEST(ScanMatchOptions, BadValuesAreErrorsNamingTheKey) {
+  auto load = [](const std::string& text) {
+    ScanMatchOptions o;
+    o.load(IniFile::fromText("[scan_matching]\n" + text, "t.ini"));
+    return o;
+  };
+  EXPECT_EQ(load("max_correction_m = 0.5\n").max_correction_m, 0.5);
+  for (const char* bad :
+       {"occupied_threshold = 0.5\n", "min_inlier_ratio = 1.5\n", "max_correction_deg = 0\n",
+        "icp_max_iterations = 0\n", "icp_smallest_threshold_dist_m = 0.9\n",
+        "min_constraint = -1\n", "overlap_distance_m = 0\n", "min_map_points = x\n"}) {
+    try {
+      load(bad);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const ConfigError& e) {
+      const std::string key = std::string(bad).substr(0, std::string(bad).find(' '));
+      EXPECT_NE(std::string(e.what()).find("t.ini: [scan_matching] " + key), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_THROW(load("max_corection_m = 1\n"), ConfigError);
+}
+
+}  // namespace
+}  // namespace dynamap

@@ -1,0 +1,66 @@
+// PlainGrid / comparePlain: what a plain MRPT grid keeps that S does not.
+
+#include "dynamap/mapping/plain_grid.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../test_util.h"
+
+namespace dynamap {
+namespace {
+
+using mrpt::poses::CPose2D;
+
+// 181 beams over 90 degrees to a wall at x = 1.0 m; within +-5 degrees of ahead an object at
+// 0.625 m when `object`.
+mrpt::obs::CObservation2DRangeScan::Ptr wallScan(bool object) {
+  constexpr int n = 181;
+  const double aperture = M_PI / 2;
+  std::vector<float> r(n);
+  for (int i = 0; i < n; ++i) {
+    const double a = -aperture / 2 + aperture * i / (n - 1);
+    r[i] =
+        static_cast<float>((object && std::abs(a) < 5 * M_PI / 180 ? 0.625 : 0.975) / std::cos(a));
+  }
+  return test::makeScan(r, aperture);
+}
+
+// Both maps fed `scans` wall scans, the object present from scan `object_from` on.
+struct Both {
+  DynamicGridMap map{DynamicMapOptions{}, InsertionOptions{}};
+  PlainGrid plain{DynamicMapOptions{}, InsertionOptions{}};
+  Both(int scans, int object_from) {
+    for (int k = 0; k < scans; ++k) {
+      const auto scan = wallScan(k >= object_from);
+      map.insertObservation(*scan, mrpt::poses::CPose3D());
+      plain.insert(*scan, CPose2D(0, 0, 0));
+    }
+  }
+};
+
+TEST(PlainGrid, AnObjectThatCameLaterStaysInThePlainGridButNotInS) {
+  const Both b(30, 15);
+  const DynamicGridMap& map = b.map;
+  const PlainGrid& plain = b.plain;
+  const PlainComparison c = comparePlain(map, plain.grid());
+  // The object's face: about 0.1 m wide at 5 cm cells, held by MRPT, Free in S.
+  EXPECT_GE(c.plain_occupied_static_free, 2u);
+  EXPECT_LE(c.plain_occupied_static_free, 6u);
+  // The wall is in both.
+  EXPECT_GT(c.both_occupied, 20u);
+  const int ox = map.x2idx(0.625), oy = map.y2idx(0.0);
+  EXPECT_TRUE(map.isStaticFree(ox, oy));
+  EXPECT_LT(plain.grid().getCell(plain.grid().x2idx(0.625), plain.grid().y2idx(0.0)), 0.5f);
+}
+
+TEST(PlainGrid, AStaticSceneHasNothingThatMoved) {
+  const Both b(20, 20);
+  const PlainComparison c = comparePlain(b.map, b.plain.grid());
+  EXPECT_EQ(c.plain_occupied_static_free, 0u);
+  EXPECT_GT(c.both_occupied, 20u);
+}
+
+}  // namespace
+}  // namespace dynamap
