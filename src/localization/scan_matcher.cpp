@@ -15,26 +15,10 @@
 #include <vector>
 
 #include "dynamap/base/ini.h"
+#include "dynamap/base/option_table.h"
 
 namespace dynamap {
 namespace {
-
-const char* const kKeys[] = {"occupied_threshold",
-                             "window_margin_m",
-                             "min_map_points",
-                             "min_scan_points",
-                             "overlap_distance_m",
-                             "inlier_distance_m",
-                             "min_inlier_ratio",
-                             "max_correction_m",
-                             "max_correction_deg",
-                             "icp_threshold_dist_m",
-                             "icp_smallest_threshold_dist_m",
-                             "icp_max_iterations",
-                             "min_constraint",
-                             "search_xy_m",
-                             "search_deg",
-                             "search_offset_cost"};
 
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr int kNormalRadius = 3;    // [cells] a wall's normal comes from a 7x7 neighbourhood
@@ -251,99 +235,61 @@ mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
 
 }  // namespace
 
+const OptionTable<ScanMatchOptions>& ScanMatchOptions::table() {
+  using O = ScanMatchOptions;
+  static const OptionTable<O> t(
+      kSection,
+      {
+          {"occupied_threshold", &O::occupied_threshold, Range::open(0.5, 1), "",
+           "S cells above this P(occ) are matched against"},
+          {"window_margin_m", &O::window_margin_m, Range::closed(0, 5), "m",
+           "S is searched this far around the scan's end points"},
+          {"min_map_points", &O::min_map_points, Range::closed(3, 100000), "",
+           "fewer occupied S cells near the scan: odometry is used"},
+          {"min_scan_points", &O::min_scan_points, Range::closed(3, 100000), "",
+           "fewer scan points on what S holds: odometry is used"},
+          {"overlap_distance_m", &O::overlap_distance_m, Range::openClosed(0, 2), "m",
+           "scan points farther than this from S (seen from the guess) are not matched"},
+          {"inlier_distance_m", &O::inlier_distance_m, Range::openClosed(0, 1), "m",
+           "a matched scan point this close to S is an inlier"},
+          {"min_inlier_ratio", &O::min_inlier_ratio, Range::closed(0, 1), "",
+           "fewer inliers (fraction of scan points): odometry is used"},
+          {"max_correction_m", &O::max_correction_m, Range::openClosed(0, 10), "m",
+           "a larger correction of the odometry guess is rejected"},
+          {"max_correction_deg", &O::max_correction_deg, Range::openClosed(0, 90), "deg",
+           "a larger heading correction is rejected"},
+          {"icp_threshold_dist_m", &O::icp_threshold_dist_m, Range::openClosed(0, 5), "m",
+           "ICP's initial correspondence distance"},
+          {"icp_smallest_threshold_dist_m", &O::icp_smallest_threshold_dist_m,
+           Range::openClosed(0, 5), "m", "ICP stops when its halved distance falls below this"},
+          {"icp_max_iterations", &O::icp_max_iterations, Range::closed(1, 1000), "",
+           "ICP's iteration cap"},
+          {"min_constraint", &O::min_constraint, Range::closed(0, 1), "",
+           "pose directions the matched walls constrain less than this keep odometry's value"},
+          {"search_xy_m", &O::search_xy_m, Range::closed(0, 2), "m",
+           "grid search around the guess before ICP, in x and y (0: off)"},
+          {"search_deg", &O::search_deg, Range::closed(0, 20), "deg", "...and in heading"},
+          {"search_offset_cost", &O::search_offset_cost, Range::closed(0, 1000), "",
+           "score (scan points) a search pose loses per cell^2 of offset"},
+      });
+  return t;
+}
+
 void ScanMatchOptions::load(const IniFile& ini) {
-  const std::string s = kSection;
-  ini.requireKnownKeys(s, {std::begin(kKeys), std::end(kKeys)});
-  occupied_threshold = ini.getDouble(s, "occupied_threshold", occupied_threshold);
-  window_margin_m = ini.getDouble(s, "window_margin_m", window_margin_m);
-  min_map_points = static_cast<int>(ini.getInt(s, "min_map_points", min_map_points));
-  min_scan_points = static_cast<int>(ini.getInt(s, "min_scan_points", min_scan_points));
-  overlap_distance_m = ini.getDouble(s, "overlap_distance_m", overlap_distance_m);
-  inlier_distance_m = ini.getDouble(s, "inlier_distance_m", inlier_distance_m);
-  min_inlier_ratio = ini.getDouble(s, "min_inlier_ratio", min_inlier_ratio);
-  max_correction_m = ini.getDouble(s, "max_correction_m", max_correction_m);
-  max_correction_deg = ini.getDouble(s, "max_correction_deg", max_correction_deg);
-  icp_threshold_dist_m = ini.getDouble(s, "icp_threshold_dist_m", icp_threshold_dist_m);
-  icp_smallest_threshold_dist_m =
-      ini.getDouble(s, "icp_smallest_threshold_dist_m", icp_smallest_threshold_dist_m);
-  icp_max_iterations = static_cast<int>(ini.getInt(s, "icp_max_iterations", icp_max_iterations));
-  min_constraint = ini.getDouble(s, "min_constraint", min_constraint);
-  search_xy_m = ini.getDouble(s, "search_xy_m", search_xy_m);
-  search_deg = ini.getDouble(s, "search_deg", search_deg);
-  search_offset_cost = ini.getDouble(s, "search_offset_cost", search_offset_cost);
+  table().load(ini, *this);
   validate(ini.name());
 }
 
 void ScanMatchOptions::validate(const std::string& src) const {
-  const char* s = kSection;
-  if (!(occupied_threshold > 0.5 && occupied_threshold < 1.0)) {
-    rejectValue(src, s, "occupied_threshold", "must be in (0.5, 1)");
+  table().checkRanges(*this, src);
+  if (!(icp_smallest_threshold_dist_m <= icp_threshold_dist_m)) {
+    rejectValue(src, kSection, "icp_smallest_threshold_dist_m",
+                "must be in (0, icp_threshold_dist_m]");
   }
-  requireInRange(src, s, "window_margin_m", window_margin_m, 0.0, 5.0, "within [0, 5] m");
-  requireInRange(src, s, "min_map_points", min_map_points, 3, 100000, "an integer in [3, 100000]");
-  requireInRange(src, s, "min_scan_points", min_scan_points, 3, 100000,
-                 "an integer in [3, 100000]");
-  if (!(overlap_distance_m > 0.0 && overlap_distance_m <= 2.0)) {
-    rejectValue(src, s, "overlap_distance_m", "must be in (0, 2] m");
-  }
-  if (!(inlier_distance_m > 0.0 && inlier_distance_m <= 1.0)) {
-    rejectValue(src, s, "inlier_distance_m", "must be in (0, 1] m");
-  }
-  requireInRange(src, s, "min_inlier_ratio", min_inlier_ratio, 0.0, 1.0, "within [0, 1]");
-  if (!(max_correction_m > 0.0 && max_correction_m <= 10.0)) {
-    rejectValue(src, s, "max_correction_m", "must be in (0, 10] m");
-  }
-  if (!(max_correction_deg > 0.0 && max_correction_deg <= 90.0)) {
-    rejectValue(src, s, "max_correction_deg", "must be in (0, 90] degrees");
-  }
-  if (!(icp_threshold_dist_m > 0.0 && icp_threshold_dist_m <= 5.0)) {
-    rejectValue(src, s, "icp_threshold_dist_m", "must be in (0, 5] m");
-  }
-  if (!(icp_smallest_threshold_dist_m > 0.0 &&
-        icp_smallest_threshold_dist_m <= icp_threshold_dist_m)) {
-    rejectValue(src, s, "icp_smallest_threshold_dist_m", "must be in (0, icp_threshold_dist_m]");
-  }
-  requireInRange(src, s, "icp_max_iterations", icp_max_iterations, 1, 1000,
-                 "an integer in [1, 1000]");
-  requireInRange(src, s, "min_constraint", min_constraint, 0.0, 1.0, "within [0, 1]");
-  requireInRange(src, s, "search_xy_m", search_xy_m, 0.0, 2.0, "within [0, 2] m");
-  requireInRange(src, s, "search_deg", search_deg, 0.0, 20.0, "within [0, 20] deg");
-  requireInRange(src, s, "search_offset_cost", search_offset_cost, 0.0, 1000.0, "within [0, 1000]");
 }
 
 void ScanMatchOptions::writeIni(std::ostream& out) const {
-  out << std::setprecision(10);
-  out << "[" << kSection << "]\n"
-      << "occupied_threshold = " << occupied_threshold
-      << " ; S cells above this P(occ) are matched against\n"
-      << "window_margin_m = " << window_margin_m
-      << " ; [m] S is searched this far around the scan's end points\n"
-      << "min_map_points = " << min_map_points
-      << " ; fewer occupied S cells near the scan: odometry is used\n"
-      << "min_scan_points = " << min_scan_points
-      << " ; fewer scan points on what S holds: odometry is used\n"
-      << "overlap_distance_m = " << overlap_distance_m
-      << " ; [m] scan points farther than this from S (seen from the guess) are not matched\n"
-      << "inlier_distance_m = " << inlier_distance_m
-      << " ; [m] a matched scan point this close to S is an inlier\n"
-      << "min_inlier_ratio = " << min_inlier_ratio
-      << " ; fewer inliers (fraction of scan points): odometry is used\n"
-      << "max_correction_m = " << max_correction_m
-      << " ; [m] a larger correction of the odometry guess is rejected\n"
-      << "max_correction_deg = " << max_correction_deg
-      << " ; [deg] a larger heading correction is rejected\n"
-      << "icp_threshold_dist_m = " << icp_threshold_dist_m
-      << " ; [m] ICP's initial correspondence distance\n"
-      << "icp_smallest_threshold_dist_m = " << icp_smallest_threshold_dist_m
-      << " ; [m] ICP stops when its halved distance falls below this\n"
-      << "icp_max_iterations = " << icp_max_iterations << " ; ICP's iteration cap\n"
-      << "min_constraint = " << min_constraint
-      << " ; pose directions the matched walls constrain less than this keep odometry's value\n"
-      << "search_xy_m = " << search_xy_m
-      << " ; [m] grid search around the guess before ICP, in x and y (0: off)\n"
-      << "search_deg = " << search_deg << " ; [deg] ...and in heading\n"
-      << "search_offset_cost = " << search_offset_cost
-      << " ; score (scan points) a search pose loses per cell^2 of offset\n";
+  table().write(*this, out);
 }
 
 void ScanMatchOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

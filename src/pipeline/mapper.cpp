@@ -43,6 +43,19 @@ void MapConfig::writeIni(std::ostream& out) const {
   scan_matching.writeIni(out);
 }
 
+std::vector<OptionDoc> MapConfig::describe() {
+  const MapConfig defaults;
+  std::vector<OptionDoc> docs = {{"input", "poses", toString(defaults.poses), "",
+                                  "where each scan's robot pose comes from",
+                                  "auto | simplemap | ground_truth | odometry | scan_matching"}};
+  for (auto&& more : {DynamicMapOptions::table().describe(defaults.map),
+                      InsertionOptions::table().describe(defaults.insertion),
+                      ScanMatchOptions::table().describe(defaults.scan_matching)}) {
+    docs.insert(docs.end(), more.begin(), more.end());
+  }
+  return docs;
+}
+
 std::size_t ScanMatchCounts::fallbackTotal() const {
   std::size_t n = 0;
   for (const auto& kv : fallbacks) n += kv.second;

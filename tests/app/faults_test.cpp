@@ -307,9 +307,10 @@ TEST(Faults, BadConfigurationIsAOneLineErrorNamingTheKeyWithItsOwnStatus) {
   const std::string in = " --input " + kTiny + " --out " + dir + "/o";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"[dynamic_map]\nresolution = fine\n", "[dynamic_map] resolution: "},
-      {"[dynamic_map]\nresolution = -0.05\n", "[dynamic_map] resolution: must be > 0"},
+      {"[dynamic_map]\nresolution = -0.05\n",
+       "[dynamic_map] resolution: -0.05 must be in [0.005, 10] m"},
       {"[dynamic_map]\nmax_map_size_m = 1e9\n",
-       "[dynamic_map] max_map_size_m: 1e+09 must be within [1, 10000] m"},
+       "[dynamic_map] max_map_size_m: 1e+09 must be in [1, 10000] m"},
       {"[dynamic_mapp]\nresolution = 0.05\n", "dynamic_mapp"},
       {"[input]\nposes = gps\n", "[input] poses: "},
   };

@@ -55,15 +55,15 @@ TEST(MapOptions, EffectiveConfigReloadsToTheSameValues) {
 TEST(MapOptions, HighsMustBeAboveHalfAndLowsBelow) {
   for (const char* key : {"s_hit_notfree", "d_hit_free"}) {
     expectError(std::string("[dynamic_map]\n") + key + " = 0.4\n",
-                std::string("my.ini: [dynamic_map] ") + key + ": 0.4 must be a high probability");
+                std::string("my.ini: [dynamic_map] ") + key + ": 0.4 must be in (0.5, 1)");
     expectError(std::string("[dynamic_map]\n") + key + " = 1\n",
-                std::string("my.ini: [dynamic_map] ") + key + ": 1 must be a high probability");
+                std::string("my.ini: [dynamic_map] ") + key + ": 1 must be in (0.5, 1)");
   }
   for (const char* key : {"s_hit_free", "s_miss", "d_hit_notfree", "d_miss"}) {
     expectError(std::string("[dynamic_map]\n") + key + " = 0.6\n",
-                std::string("my.ini: [dynamic_map] ") + key + ": 0.6 must be a low probability");
+                std::string("my.ini: [dynamic_map] ") + key + ": 0.6 must be in (0, 0.5)");
     expectError(std::string("[dynamic_map]\n") + key + " = 0\n",
-                std::string("my.ini: [dynamic_map] ") + key + ": 0 must be a low probability");
+                std::string("my.ini: [dynamic_map] ") + key + ": 0 must be in (0, 0.5)");
   }
   expectError("[dynamic_map]\ns_miss = 0.499\n",
               "my.ini: [dynamic_map] s_miss: 0.499 is too close to 0.5");
@@ -83,13 +83,17 @@ TEST(MapOptions, ThresholdsAreInTheOpenUnitIntervalAndOrdered) {
 }
 
 TEST(MapOptions, ResolutionMustBePositive) {
-  expectError("[dynamic_map]\nresolution = 0\n", "my.ini: [dynamic_map] resolution: must be > 0 m");
+  expectError("[dynamic_map]\nresolution = 0\n",
+              "my.ini: [dynamic_map] resolution: 0 must be in [0.005, 10] m");
   expectError("[dynamic_map]\nresolution = -0.05\n",
-              "my.ini: [dynamic_map] resolution: must be > 0 m");
+              "my.ini: [dynamic_map] resolution: -0.05 must be in [0.005, 10] m");
   expectError("[dynamic_map]\nresolution = 0.001\n",
-              "my.ini: [dynamic_map] resolution: must be within");
+              "my.ini: [dynamic_map] resolution: 0.001 must be in [0.005, 10] m");
   expectError("[dynamic_map]\nmax_map_size_m = 0.5\n",
-              "my.ini: [dynamic_map] max_map_size_m: 0.5 must be within [1, 10000] m");
+              "my.ini: [dynamic_map] max_map_size_m: 0.5 must be in [1, 10000] m");
+  // Checked before it is narrowed to an int: 2^32 + 1 must not wrap round to 1.
+  expectError("[dynamic_map]\nwall_guard_cells = 4294967297\n",
+              "my.ini: [dynamic_map] wall_guard_cells: 4.29497e+09 must be an integer in [0, 3]");
   expectError("[dynamic_map]\nwall_guard_cells = 5\n",
               "my.ini: [dynamic_map] wall_guard_cells: 5 must be an integer in [0, 3]");
   expectError("[dynamic_map]\nwall_guard_cells = 1.5\n",
@@ -109,9 +113,9 @@ TEST(MapOptions, UnknownOrMisspelledKeysAndSectionsAreErrors) {
 
 TEST(MapOptions, InsertionOptionsAreValidated) {
   expectError("[insertion]\nmax_distance_insertion = 0\n",
-              "my.ini: [insertion] max_distance_insertion: must be in (0, 1000] m");
+              "my.ini: [insertion] max_distance_insertion: 0 must be in (0, 1000] m");
   expectError("[insertion]\nhorizontal_tolerance_deg = -1\n",
-              "my.ini: [insertion] horizontal_tolerance_deg: must be in [0, 90] degrees");
+              "my.ini: [insertion] horizontal_tolerance_deg: -1 must be in [0, 90] deg");
   expectError("[insertion]\ninvalid_ranges_as_free = sometimes\n",
               "my.ini: [insertion] invalid_ranges_as_free: 'sometimes' is not a boolean");
 }

@@ -25,6 +25,8 @@
 namespace dynamap {
 
 class IniFile;
+template <typename T>
+class OptionTable;
 
 struct ScanMatchOptions : public mrpt::config::CLoadableOptions {
   static constexpr const char* kSection = "scan_matching";
@@ -79,6 +81,8 @@ struct ScanMatchOptions : public mrpt::config::CLoadableOptions {
   /// 0.128, 0.169, 0.124, 0.327, 0.136, 0.136 m; 0.5 diverges; in [0, 1000].
   double search_offset_cost = 5.0;
 
+  /// Every key of [scan_matching]: name, member, range, unit, meaning (see OptionTable).
+  static const OptionTable<ScanMatchOptions>& table();
   /// Strict load: unknown keys, malformed numbers and out-of-range values throw ConfigError.
   void load(const IniFile& ini);
   /// Throws ConfigError ("<source>: [scan_matching] key: why") for the first rule broken.

@@ -12,6 +12,8 @@
 namespace dynamap {
 
 class IniFile;
+template <typename T>
+class OptionTable;
 
 /// The inverse sensor model and thresholds of Wolf & Sukhatme's two maps. Probabilities are
 /// P(occupied); "high" values are > 0.5, "low" values < 0.5.
@@ -54,9 +56,13 @@ struct DynamicMapOptions : public mrpt::config::CLoadableOptions {
   /// enough wherever the object appears; in (0, object_threshold).
   double d_min = 0.5;
 
+  /// Every key of [dynamic_map]: name, member, range, unit, meaning (see OptionTable).
+  static const OptionTable<DynamicMapOptions>& table();
   /// Strict load: unknown keys, malformed numbers and out-of-range values throw ConfigError.
   void load(const IniFile& ini);
-  /// Throws ConfigError ("<source>: [dynamic_map] key: why") for the first rule broken.
+  /// Throws ConfigError ("<source>: [dynamic_map] key: why") for the first rule broken: the
+  /// table's ranges, then the model's own rules (updates that move an 8-bit cell; thresholds in
+  /// order).
   void validate(const std::string& source) const;
   /// Writes the section, one key per line with its meaning, in ini syntax (reloadable).
   void writeIni(std::ostream& out) const;
@@ -76,6 +82,7 @@ struct InsertionOptions {
   bool invalid_ranges_as_free = true;
   double horizontal_tolerance_deg = 0.05;  ///< [deg] max pitch/roll of a scan to insert it; >= 0
 
+  static const OptionTable<InsertionOptions>& table();
   void load(const IniFile& ini);
   void validate(const std::string& source) const;
   void writeIni(std::ostream& out) const;

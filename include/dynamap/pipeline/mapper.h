@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "dynamap/base/option_table.h"
 #include "dynamap/input/scan_source.h"
 #include "dynamap/localization/scan_matcher.h"
 #include "dynamap/mapping/dynamic_grid_map.h"
@@ -31,6 +32,8 @@ struct MapConfig {
   static MapConfig load(const IniFile& ini);
   /// The effective configuration as a reloadable .ini.
   void writeIni(std::ostream& out) const;
+  /// Every key of every section with its default, unit, range and meaning (for docs and tests).
+  static std::vector<OptionDoc> describe();
 };
 
 /// Counts of a run, for summary.json.
