@@ -20,9 +20,8 @@
 #include "dynamap/evaluation/evaluation.h"
 #include "dynamap/input/open_source.h"
 #include "dynamap/input/pose_file.h"
+#include "dynamap/outputs/map_job.h"
 #include "dynamap/outputs/map_outputs.h"
-#include "dynamap/outputs/run_outputs.h"
-#include "dynamap/outputs/tables.h"
 #include "dynamap/pipeline/mapper.h"
 #include "dynamap/sim/scenario.h"
 
@@ -194,23 +193,16 @@ std::string truthPrefix(const std::string& given) {
 
 // ---- the mapping result -------------------------------------------------------------------
 
-/// Runs `dynamap map` on the rawlog with ground-truth poses into `dir`.
-void runMapper(const std::string& rawlog, const std::string& config_path, const std::string& dir) {
-  MapConfig config = MapConfig::load(IniFile::fromFile(config_path));
+/// Maps the rawlog with ground-truth poses into `dir`, as `dynamap map` would (no baseline).
+void runMapper(const std::string& rawlog, MapConfig config, const std::string& dir) {
   config.poses = PoseSource::GroundTruth;
-  prepareOutputDir(dir);
-  auto source = openScanSource(rawlog, PoseSource::GroundTruth);
-  Mapper mapper(config);
-  const auto start = std::chrono::steady_clock::now();
-  TrackLog tracks(dir);  // tracks.csv, as `dynamap map` streams it
-  const InputOutcome outcome = runMapping(*source, mapper, [&](const ScanRecord& rec) {
-    tracks.append(rec.index, rec.t, mapper.tracker());
-  });
-  const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!outcome.fault.empty()) throw InputError(outcome.fault);
-  tracks.finish();  // before summary.json, whose presence means "a complete result"
-  writeMapOutputs(dir, mapper, *source, {rawlog, wall_s, outcome});
+  MapJob job;
+  job.input = rawlog;
+  job.out_dir = dir;
+  job.config = config;
+  job.baseline = false;
+  const MapJobResult r = runMapJob(job);
+  if (!r.outcome.fault.empty()) throw InputError(r.outcome.fault);
 }
 
 mrpt::maps::COccupancyGridMap2D loadGrid(const std::string& path) {
@@ -250,16 +242,15 @@ std::vector<float> occupancyOn(const mrpt::maps::COccupancyGridMap2D& grid, cons
 
 /// What a user gets without dynamap: MRPT's grid, default insertion options, the same scans and
 /// poses, the resolution and extent of S.
-std::vector<float> plainMrptOccupancy(const std::string& rawlog, const GridGeometry& g) {
-  mrpt::maps::COccupancyGridMap2D grid(
-      static_cast<float>(g.x_min), static_cast<float>(g.x_min + g.size_x * g.resolution),
-      static_cast<float>(g.y_min), static_cast<float>(g.y_min + g.size_y * g.resolution),
-      static_cast<float>(g.resolution));
+std::vector<float> plainMrptOccupancy(const std::string& rawlog, const GridGeometry& g,
+                                      const MapConfig& config) {
+  PlainGrid plain(config.map, config.insertion, static_cast<float>(g.x_min),
+                  static_cast<float>(g.x_min + g.size_x * g.resolution),
+                  static_cast<float>(g.y_min),
+                  static_cast<float>(g.y_min + g.size_y * g.resolution));
   auto source = openScanSource(rawlog, PoseSource::GroundTruth);
-  for (ScanRecord rec; source->next(rec);) {
-    grid.insertObservation(*rec.scan, mrpt::poses::CPose3D(rec.pose));
-  }
-  return occupancyOn(grid, g);
+  for (ScanRecord rec; source->next(rec);) plain.insert(*rec.scan, rec.pose);
+  return occupancyOn(plain.grid(), g);
 }
 
 // ---- the evaluation -----------------------------------------------------------------------
@@ -285,13 +276,14 @@ double objectThreshold(const std::string& result) {
 }
 
 void evaluateCells(const sim::Scenario& scenario, const std::vector<TruthRow>& rows,
-                   const std::vector<TruthMove>& moves, const std::string& rawlog, Evaluation& ev) {
+                   const std::vector<TruthMove>& moves, const std::string& rawlog,
+                   const MapConfig& config, Evaluation& ev) {
   const auto s_grid = loadGrid((fs::path(ev.result) / "static.gridmap.gz").string());
   const auto d_grid = loadGrid((fs::path(ev.result) / "dynamic.gridmap.gz").string());
   const GridGeometry g = geometryOf(s_grid);
   const auto s_occ = occupancyOn(s_grid, g);
   const auto d_occ = occupancyOn(d_grid, g);
-  const auto plain = plainMrptOccupancy(rawlog, g);
+  const auto plain = plainMrptOccupancy(rawlog, g, config);
   // One set of observed cells for both maps, so their figures share a denominator.
   const CellMask observed = observedCells({&s_occ, &d_occ, &plain});
   for (auto o : observed) ev.observed += o;
@@ -599,7 +591,7 @@ int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
 // ---- the command --------------------------------------------------------------------------
 
 Evaluation evaluate(const std::string& scenario_path, const std::string& truth_given,
-                    const std::string& result, const std::string& config_path) {
+                    const std::string& result, const MapConfig& config) {
   const sim::Scenario scenario = sim::loadScenario(scenario_path);
   const std::string prefix = truthPrefix(truth_given);
   const std::string rawlog = prefix + ".rawlog";
@@ -613,7 +605,7 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
   ev.moves = moves.size();
   if (!fs::exists(fs::path(result) / "summary.json")) {
     std::cerr << "dynamap eval: no mapping result in " << result << ", mapping " << rawlog << "\n";
-    runMapper(rawlog, config_path, result);
+    runMapper(rawlog, config, result);
   }
   const fs::path tracks = fs::path(result) / "tracks.csv";
   ev.have_tracks = fs::exists(tracks);
@@ -627,7 +619,7 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
   } catch (const std::invalid_argument& e) {
     throw InputError(tracks.string() + ": " + e.what());
   }
-  evaluateCells(scenario, rows, moves, rawlog, ev);
+  evaluateCells(scenario, rows, moves, rawlog, config, ev);
   const fs::path poses = fs::path(result) / "poses.txt";
   ev.have_poses = fs::exists(poses);
   if (ev.have_poses) {
@@ -647,8 +639,9 @@ int runEval(const Args& args) {
       "truth,t", po::value<std::string>(),
       "the simulator's file prefix (rawlogs/arena/arena) or its directory")(
       "result,r", po::value<std::string>(), "a dynamap map output directory (mapped if empty)")(
-      "config,c", po::value<std::string>()->default_value("config/default.ini"),
-      "the mapper's configuration, used only when the result must be mapped first")(
+      "config,c", po::value<std::string>(),
+      "the mapper's configuration (default: the built-in defaults = config/default.ini), for\n"
+      "mapping the result when it is not there yet and for the plain MRPT grid")(
       "summary", po::value<std::vector<std::string>>()->multitoken(),
       "print one table of these evaluated result directories beside the paper's Table 3")(
       "trajectory", po::value<std::string>(),
@@ -681,8 +674,11 @@ int runEval(const Args& args) {
     if (!vm.count(k)) throw UsageError(std::string("--") + k + " is required");
   }
   const std::string result = vm["result"].as<std::string>();
-  const Evaluation ev = evaluate(vm["scenario"].as<std::string>(), vm["truth"].as<std::string>(),
-                                 result, vm["config"].as<std::string>());
+  MapConfig config;
+  if (vm.count("config"))
+    config = MapConfig::load(IniFile::fromFile(vm["config"].as<std::string>()));
+  const Evaluation ev =
+      evaluate(vm["scenario"].as<std::string>(), vm["truth"].as<std::string>(), result, config);
   printTable(std::cout, ev);
   writeFileAtomically(result, "metrics.json", [&](std::ostream& o) { writeMetricsJson(o, ev); });
   writeFileAtomically(result, "report.md", [&](std::ostream& o) { writeReport(o, ev); });

@@ -5,7 +5,11 @@
 namespace dynamap {
 
 PlainGrid::PlainGrid(const DynamicMapOptions& map, const InsertionOptions& insertion)
-    : grid_(-10.f, 10.f, -10.f, 10.f, static_cast<float>(map.resolution)) {
+    : PlainGrid(map, insertion, -10.f, 10.f, -10.f, 10.f) {}
+
+PlainGrid::PlainGrid(const DynamicMapOptions& map, const InsertionOptions& insertion, float x_min,
+                     float x_max, float y_min, float y_max)
+    : grid_(x_min, x_max, y_min, y_max, static_cast<float>(map.resolution)) {
   auto& o = grid_.insertionOptions;
   o.maxDistanceInsertion = static_cast<float>(insertion.max_distance_insertion);
   o.considerInvalidRangesAsFreeSpace = insertion.invalid_ranges_as_free;

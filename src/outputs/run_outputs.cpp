@@ -140,8 +140,6 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
                       [&](std::ostream& o) { writeObjectsCsv(o, mapper.tracker()); });
   writeFileAtomically(dir, "events.csv",
                       [&](std::ostream& o) { writeEventsCsv(o, mapper.tracker()); });
-  writeFileAtomically(dir, "poses.txt",
-                      [&](std::ostream& o) { writePosesTxt(o, mapper.usedPoses()); });
   if (info.baseline)
     saveImageAtomically(renderStatic(info.baseline->grid()), dir, "mrpt_plain.png");
   writeFileAtomically(dir, "summary.json",

@@ -9,50 +9,55 @@
 
 namespace dynamap {
 
-TrackLog::TrackLog(const std::string& dir) : dir_(dir), tmp_(tempName(dir, "tracks.csv")) {
+StreamedFile::StreamedFile(const std::string& dir, const std::string& name,
+                           const std::string& header)
+    : dir_(dir), name_(name), tmp_(tempName(dir, name)) {
   out_ = std::make_unique<std::ofstream>(tmp_, std::ios::binary | std::ios::trunc);
-  if (!*out_) throw std::runtime_error(dir + "/tracks.csv: cannot write");
-  *out_ << "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n";
+  if (!*out_) throw std::runtime_error(dir + "/" + name + ": cannot write");
+  *out_ << header;
 }
 
-TrackLog::~TrackLog() {
+StreamedFile::~StreamedFile() {
   if (!out_) return;
   out_.reset();
   std::error_code ec;
   std::filesystem::remove(tmp_, ec);  // not finished: leave no half-written file
 }
 
-void TrackLog::append(std::size_t scan_index, double t, const ObjectTracker& tracker) {
-  for (const TrackedObject& o : tracker.objects()) {
-    if (o.state != ObjectState::Present) continue;
-    const ShapeEstimate& s = o.shape;
-    *out_ << scan_index << ',' << fmt("%.6f", t) << ',' << o.id << ',' << fmt("%.3f", s.cx) << ','
-          << fmt("%.3f", s.cy) << ',' << fmt("%.3f", s.size) << ',' << fmt("%.3f", s.x_min) << ','
-          << fmt("%.3f", s.x_max) << ',' << fmt("%.3f", s.y_min) << ',' << fmt("%.3f", s.y_max)
-          << '\n';
-  }
-}
-
-void TrackLog::finish() {
+void StreamedFile::finish() {
   out_->flush();
   const bool ok = static_cast<bool>(*out_);
   out_.reset();
   if (!ok) {
     std::error_code ec;
     std::filesystem::remove(tmp_, ec);
-    throw std::runtime_error(dir_ + "/tracks.csv: cannot write");
+    throw std::runtime_error(dir_ + "/" + name_ + ": cannot write");
   }
-  commit(tmp_, dir_, "tracks.csv");
+  commit(tmp_, dir_, name_);
 }
 
-void writePosesTxt(std::ostream& o, const std::vector<UsedPose>& poses) {
-  o << "% timestamp x y phi (the pose each scan was mapped at)\n";
-  char buf[128];
-  for (const UsedPose& p : poses) {
-    std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f\n", p.t, p.pose.x(), p.pose.y(),
-                  p.pose.phi());
-    o << buf;
+TrackLog::TrackLog(const std::string& dir)
+    : file_(dir, "tracks.csv", "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n") {}
+
+void TrackLog::append(std::size_t scan_index, double t, const ObjectTracker& tracker) {
+  std::ostream& out = file_.out();
+  for (const TrackedObject& o : tracker.objects()) {
+    if (o.state != ObjectState::Present) continue;
+    const ShapeEstimate& s = o.shape;
+    out << scan_index << ',' << fmt("%.6f", t) << ',' << o.id << ',' << fmt("%.3f", s.cx) << ','
+        << fmt("%.3f", s.cy) << ',' << fmt("%.3f", s.size) << ',' << fmt("%.3f", s.x_min) << ','
+        << fmt("%.3f", s.x_max) << ',' << fmt("%.3f", s.y_min) << ',' << fmt("%.3f", s.y_max)
+        << '\n';
   }
+}
+
+PoseLog::PoseLog(const std::string& dir)
+    : file_(dir, "poses.txt", "% timestamp x y phi (the pose each scan was mapped at)\n") {}
+
+void PoseLog::append(double t, const mrpt::poses::CPose2D& pose) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f\n", t, pose.x(), pose.y(), pose.phi());
+  file_.out() << buf;
 }
 
 void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {

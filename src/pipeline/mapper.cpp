@@ -96,31 +96,38 @@ mrpt::poses::CPose2D Mapper::correctPose(const ScanRecord& rec) {
   return r.pose;
 }
 
-bool Mapper::process(const ScanRecord& rec) {
-  if (have_t_ && rec.t < counts_.last_t) ++counts_.time_backwards;
+void Mapper::countTime(const ScanRecord& rec) {
+  if (have_t_ && rec.t < counts_.last_t && counts_.time_backwards++ == 0)
+    counts_.first_backwards_index = rec.index;
   if (!have_t_) counts_.first_t = rec.t;
   have_t_ = true;
   counts_.last_t = rec.t;
+}
 
-  const mrpt::poses::CPose2D pose2 = matcher_ ? correctPose(rec) : rec.pose;
-  used_poses_.push_back({rec.t, pose2});
-  map_.insertObservation(*rec.scan, mrpt::poses::CPose3D(pose2));
+ScanResult Mapper::process(const ScanRecord& rec) {
+  countTime(rec);
+  ScanResult result;
+  result.pose = matcher_ ? correctPose(rec) : rec.pose;  // 1. where the scan was taken
+  map_.insertObservation(*rec.scan, mrpt::poses::CPose3D(result.pose));  // 2. S and D
   const ScanInsertStats& st = map_.lastInsertStats();
   counts_.beams_bad += st.beams_bad;
   if (!st.inserted) {
-    ++counts_.scans_skipped[st.skip_reason ? st.skip_reason : "no usable beam"];
-    return false;
+    result.skip_reason = st.skip_reason ? st.skip_reason : "no usable beam";
+    ++counts_.scans_skipped[result.skip_reason];
+    return result;
   }
+  result.inserted = true;
   ++counts_.scans_used;
-  // Objects, from the D cells this scan changed and the scan's view of known places.
-  tracker_.update(map_, makeScanView(*rec.scan, pose2, config_.insertion.max_distance_insertion),
+  // 3. Objects, from the D cells this scan changed and the scan's view of known places.
+  tracker_.update(map_,
+                  makeScanView(*rec.scan, result.pose, config_.insertion.max_distance_insertion),
                   rec.t, rec.index);
-  path_.add(pose2.x(), pose2.y());
-  return true;
+  result.object_events = tracker_.eventsOfLastUpdate();
+  path_.add(result.pose.x(), result.pose.y());  // 4. the path the pictures draw
+  return result;
 }
 
-InputOutcome runMapping(ScanSource& source, Mapper& mapper,
-                        const std::function<void(const ScanRecord&)>& on_scan) {
+InputOutcome runMapping(ScanSource& source, Mapper& mapper, const ScanCallback& on_scan) {
   InputOutcome outcome;
   ScanRecord rec;
   while (true) {
@@ -130,9 +137,9 @@ InputOutcome runMapping(ScanSource& source, Mapper& mapper,
       outcome.fault = e.what();
       break;
     }
-    mapper.process(rec);
-    rec.pose = mapper.usedPoses().back().pose;  // scan matching may have corrected it
-    if (on_scan) on_scan(rec);
+    const ScanResult result = mapper.process(rec);
+    rec.pose = result.pose;  // scan matching may have corrected it
+    if (on_scan) on_scan(rec, result);
   }
   return outcome;
 }

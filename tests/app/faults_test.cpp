@@ -389,7 +389,7 @@ TEST(Faults, TheRobotsPathStaysBoundedHoweverLongTheRun) {
     rec.t = 0.1 * static_cast<double>(i);
     rec.pose = CPose2D(x, 0, 0);
     rec.scan = scan;
-    ASSERT_TRUE(mapper.process(rec)) << "scan " << i;
+    ASSERT_TRUE(mapper.process(rec).inserted) << "scan " << i;
   }
   EXPECT_LE(mapper.path().size(), RobotPath::kMaxPoints);
   EXPECT_GT(mapper.path().size(), RobotPath::kMaxPoints / 4);

@@ -171,7 +171,7 @@ TEST(ScanMatchingMapper, CorrectsDriftAndCountsFallbacks) {
   // The robot drives along x; odometry over-reads every step by 3 cm and 0.5 degrees.
   CPose2D odo(0, 0, 0), truth(0, 0, 0);
   const CPose2D step(0.1, 0, 0), drift(0.03, 0, 0.5 * kDeg);
-  std::vector<CPose2D> truths;
+  std::vector<CPose2D> truths, used;
   for (int i = 0; i < 20; ++i) {
     if (i > 0) {
       truth = truth + step;
@@ -183,20 +183,20 @@ TEST(ScanMatchingMapper, CorrectsDriftAndCountsFallbacks) {
     rec.t = i * 0.2;
     rec.pose = odo;
     rec.scan = scanFrom(world, truth);
-    mapper.process(rec);
+    used.push_back(mapper.process(rec).pose);
     truths.push_back(truth);
   }
   const ScanMatchCounts& c = mapper.scanMatchCounts();
   EXPECT_EQ(c.fallbacks.at("too few map points"), 1u);  // the first scan: S is empty
   EXPECT_EQ(c.fallbackTotal(), 2u);                     // ... and the slip
   EXPECT_EQ(c.matched, 18u);
-  ASSERT_EQ(mapper.usedPoses().size(), 20u);
-  const CPose2D slipped = mapper.usedPoses()[11].pose + step + drift + CPose2D(0.8, 0.6, 25 * kDeg);
-  EXPECT_NEAR(mapper.usedPoses()[12].pose.x(), slipped.x(), 1e-9);  // odometry's
-  EXPECT_NEAR(mapper.usedPoses()[12].pose.y(), slipped.y(), 1e-9);
+  ASSERT_EQ(used.size(), 20u);
+  const CPose2D slipped = used[11] + step + drift + CPose2D(0.8, 0.6, 25 * kDeg);
+  EXPECT_NEAR(used[12].x(), slipped.x(), 1e-9);  // odometry's
+  EXPECT_NEAR(used[12].y(), slipped.y(), 1e-9);
   // Before the slip every pose is on the truth, to S's 5 cm cells; odometry is 33 cm off.
   for (int i = 0; i < 12; ++i) {
-    const CPose2D& p = mapper.usedPoses()[i].pose;
+    const CPose2D& p = used[i];
     EXPECT_LT(std::hypot(p.x() - truths[i].x(), p.y() - truths[i].y()), 0.025) << "scan " << i;
     EXPECT_LT(headingError(p, truths[i]), 0.5 * kDeg) << "scan " << i;
   }

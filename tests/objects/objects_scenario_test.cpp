@@ -89,7 +89,7 @@ Figures score(const std::string& name) {
   std::vector<int> found_id(truth.moves.size(), 0);
   std::vector<double> found_t(truth.moves.size(), -1);
   std::set<int> false_ids;
-  runMapping(*source, mapper, [&](const ScanRecord& rec) {
+  runMapping(*source, mapper, [&](const ScanRecord& rec, const ScanResult&) {
     const double t = rec.t - t0;
     const auto& bodies = truth.bodies.at(rec.index);
     for (const TrackedObject& o : mapper.tracker().objects()) {

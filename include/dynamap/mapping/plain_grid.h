@@ -15,7 +15,11 @@ namespace dynamap {
 
 class PlainGrid {
  public:
+  /// A grid over [-10, 10] m that grows to fit what is inserted, as MRPT's would.
   PlainGrid(const DynamicMapOptions& map, const InsertionOptions& insertion);
+  /// A grid over the given extents [m] (the geometry of a map to compare with cell for cell).
+  PlainGrid(const DynamicMapOptions& map, const InsertionOptions& insertion, float x_min,
+            float x_max, float y_min, float y_max);
   /// MRPT's own insertion of `scan` taken from robot pose `pose`.
   void insert(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& pose);
   const mrpt::maps::COccupancyGridMap2D& grid() const { return grid_; }

@@ -7,33 +7,55 @@
 #include <string>
 #include <vector>
 
+#include <mrpt/poses/CPose2D.h>
+
 #include "dynamap/objects/object_tracker.h"
-#include "dynamap/pipeline/mapper.h"
 
 namespace dynamap {
 
-/// tracks.csv, streamed while the run goes: after every scan, one row per present object
-/// (`scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max`). Written under a temporary
-/// name and renamed by finish(), so an interrupted run leaves no tracks.csv; rows are never
-/// kept in memory.
-class TrackLog {
+/// A text file written while the run goes, row by row, never held in memory: under a temporary
+/// name in `dir` until finish() renames it, so an interrupted run leaves no half-written file
+/// under the final name (the destructor of an unfinished one removes it).
+class StreamedFile {
  public:
-  /// Opens the temporary file in `dir` (which must exist); throws std::runtime_error.
-  explicit TrackLog(const std::string& dir);
-  ~TrackLog();
-  TrackLog(const TrackLog&) = delete;
-  TrackLog& operator=(const TrackLog&) = delete;
-  void append(std::size_t scan_index, double t, const ObjectTracker& tracker);
-  /// Flushes and renames to tracks.csv; throws on I/O errors.
+  /// Opens the temporary file in `dir` (which must exist) and writes `header`; throws
+  /// std::runtime_error naming the final file.
+  StreamedFile(const std::string& dir, const std::string& name, const std::string& header);
+  ~StreamedFile();
+  StreamedFile(const StreamedFile&) = delete;
+  StreamedFile& operator=(const StreamedFile&) = delete;
+  std::ostream& out() { return *out_; }
+  /// Flushes and renames to the final name; throws on I/O errors.
   void finish();
 
  private:
-  std::string dir_, tmp_;
+  std::string dir_, name_, tmp_;
   std::unique_ptr<std::ofstream> out_;
 };
 
-/// poses.txt: `timestamp x y phi` per scan, the poses used (MRPT's .gt.txt format).
-void writePosesTxt(std::ostream& out, const std::vector<UsedPose>& poses);
+/// tracks.csv: after every scan, one row per present object
+/// (`scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max`).
+class TrackLog {
+ public:
+  explicit TrackLog(const std::string& dir);
+  void append(std::size_t scan_index, double t, const ObjectTracker& tracker);
+  void finish() { file_.finish(); }
+
+ private:
+  StreamedFile file_;
+};
+
+/// poses.txt: `timestamp x y phi` per scan, the pose each scan was mapped at (MRPT's .gt.txt
+/// format), skipped scans included.
+class PoseLog {
+ public:
+  explicit PoseLog(const std::string& dir);
+  void append(double t, const mrpt::poses::CPose2D& pose);
+  void finish() { file_.finish(); }
+
+ private:
+  StreamedFile file_;
+};
 
 /// Writers of the object table, exact and fixed-format (byte-identical between runs).
 void writeObjectsCsv(std::ostream& out, const ObjectTracker& tracker);

@@ -42,6 +42,7 @@ struct RunCounts {
   std::map<std::string, std::size_t> scans_skipped;  ///< by reason
   std::uint64_t beams_bad = 0;                       ///< NaN / inf / negative ranges
   std::size_t time_backwards = 0;                    ///< scans older than the one before
+  std::size_t first_backwards_index = 0;             ///< the first of them (ScanRecord::index)
   double first_t = 0, last_t = 0;
 };
 
@@ -54,10 +55,13 @@ struct ScanMatchCounts {
   std::size_t fallbackTotal() const;
 };
 
-/// The pose a scan was inserted at (poses.txt).
-struct UsedPose {
-  double t = 0;
+/// What the per-scan step did with one scan.
+struct ScanResult {
+  bool inserted = false;              ///< false: skipped, see skip_reason
+  const char* skip_reason = nullptr;  ///< why it was skipped (counted in RunCounts)
+  /// The robot pose the scan was mapped at: the record's, or corrected by scan matching.
   mrpt::poses::CPose2D pose;
+  std::size_t object_events = 0;  ///< events the object table gained with this scan
 };
 
 /// The per-scan step: insert into S and D, update the object table, extend the robot's path.
@@ -65,10 +69,10 @@ class Mapper {
  public:
   explicit Mapper(const MapConfig& config);
 
-  /// Inserts one scan; false when it was skipped (counted by reason). With scan matching, the
-  /// scan's pose is the odometry increment since the last scan applied to the last pose used,
-  /// then corrected by matching the scan against S.
-  bool process(const ScanRecord& rec);
+  /// The per-scan step: S and D, the object table, the robot's path. A skipped scan is counted
+  /// by reason. With scan matching, the scan's pose is the odometry increment since the last
+  /// scan applied to the last pose used, then corrected by matching the scan against S.
+  ScanResult process(const ScanRecord& rec);
 
   const DynamicGridMap& map() const { return map_; }
   DynamicGridMap& map() { return map_; }
@@ -77,14 +81,13 @@ class Mapper {
   const std::vector<PathPoint>& path() const { return path_.points(); }
   const RunCounts& counts() const { return counts_; }
   const MapConfig& config() const { return config_; }
-  /// The pose each scan was processed at, in input order (the poses of poses.txt).
-  const std::vector<UsedPose>& usedPoses() const { return used_poses_; }
   bool scanMatching() const { return matcher_ != nullptr; }
   const ScanMatchCounts& scanMatchCounts() const { return match_counts_; }
   /// The pose source of this run: the source's, or scan_matching.
   std::string poseSourceName(const ScanSource& source) const;
 
  private:
+  void countTime(const ScanRecord& rec);
   /// The odometry pose of `rec` turned into the pose to insert it at (scan matching).
   mrpt::poses::CPose2D correctPose(const ScanRecord& rec);
 
@@ -94,7 +97,6 @@ class Mapper {
   RobotPath path_;
   RunCounts counts_;
   bool have_t_ = false;
-  std::vector<UsedPose> used_poses_;
   std::unique_ptr<ScanMatcher> matcher_;  // null unless poses is ScanMatching
   ScanMatchCounts match_counts_;
   bool have_pose_ = false;
@@ -106,10 +108,10 @@ struct InputOutcome {
   std::string fault;
 };
 
-/// Feeds every scan of `source` to `mapper`, calling `on_scan` after each with the record as
-/// mapped (its pose the one used, corrected when scan matching). An InputError from
+/// Called after each scan with the record as mapped (its pose the one used) and the result.
+using ScanCallback = std::function<void(const ScanRecord&, const ScanResult&)>;
+/// Feeds every scan of `source` to `mapper`, calling `on_scan` after each. An InputError from
 /// the source ends the loop and is returned as the outcome's fault: everything before it stays.
-InputOutcome runMapping(ScanSource& source, Mapper& mapper,
-                        const std::function<void(const ScanRecord&)>& on_scan = {});
+InputOutcome runMapping(ScanSource& source, Mapper& mapper, const ScanCallback& on_scan = {});
 
 }  // namespace dynamap

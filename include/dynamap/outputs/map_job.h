@@ -1,0 +1,46 @@
+#pragma once
+// One whole mapping job, shared by `dynamap map` and `dynamap eval`: a log in, every output file
+// of docs' "Outputs" out. Opens the source, runs the per-scan step over it, streams tracks.csv
+// and poses.txt, builds the plain MRPT baseline and the frames when asked, and writes the maps,
+// the tables and summary.json at the end — also when the input ended in a fault.
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "dynamap/input/carmen_reader.h"
+#include "dynamap/mapping/plain_grid.h"
+#include "dynamap/pipeline/mapper.h"
+
+namespace dynamap {
+
+struct MapJob {
+  std::string input;    ///< the log
+  std::string out_dir;  ///< created if needed; must be writable (checked before any work)
+  MapConfig config;
+  CarmenOptions carmen;   ///< for CARMEN input
+  bool baseline = true;   ///< also build the plain MRPT grid (mrpt_plain.png, summary.json)
+  long frames_every = 0;  ///< > 0: frames/NNNNNN.png every this many scans, and timelapse.mp4
+  /// Called after every scan with the share of the input read (negative: unknown) and the
+  /// scans mapped so far; may be empty.
+  std::function<void(double fraction, std::size_t scans_used)> progress;
+};
+
+struct MapJobResult {
+  std::string pose_source;  ///< the one used (never auto)
+  RunCounts counts;
+  SourceStats source_stats;
+  bool scan_matching = false;
+  ScanMatchCounts scan_match_counts;
+  std::optional<PlainComparison> baseline;  ///< with MapJob::baseline
+  double wall_s = 0;                        ///< the run without the baseline
+  double baseline_wall_s = 0;               ///< the baseline alone
+  InputOutcome outcome;  ///< fault: the input ended in one, outputs cover what came before
+};
+
+/// Runs the job. Throws InputError when the input cannot be opened (nothing written then), and
+/// std::runtime_error for an output that cannot be written.
+MapJobResult runMapJob(const MapJob& job);
+
+}  // namespace dynamap

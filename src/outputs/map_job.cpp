@@ -1,0 +1,106 @@
+#include "dynamap/outputs/map_job.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+
+#include "dynamap/input/open_source.h"
+#include "dynamap/outputs/map_outputs.h"
+#include "dynamap/outputs/render.h"
+#include "dynamap/outputs/run_outputs.h"
+#include "dynamap/outputs/tables.h"
+
+namespace dynamap {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The overlay as it is after scan `scan_index`, with the objects present then.
+void writeFrame(const std::string& dir, const Mapper& mapper, std::size_t scan_index) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%06zu.png", scan_index);
+  saveImageAtomically(renderOverlay(mapper.map(), mapper.path(), &mapper.tracker().objects()), dir,
+                      name);
+}
+
+// Frames into timelapse.mp4 when ffmpeg is on PATH; a note on stderr otherwise.
+void writeTimelapse(const std::string& out_dir, const std::string& frames_dir) {
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+    std::cerr << "dynamap map: ffmpeg not found, timelapse.mp4 skipped (frames are in "
+              << frames_dir << "/)\n";
+    return;
+  }
+  // Frames differ in size when the map grew: pad each to the last (largest) one's size.
+  const std::string tmp = out_dir + "/.tmp-timelapse.mp4";
+  const std::string cmd =
+      "ffmpeg -loglevel error -y -framerate 10 -pattern_type glob -i '" + frames_dir +
+      "/*.png' -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p '" + tmp +
+      "' && mv '" + tmp + "' '" + out_dir + "/timelapse.mp4'";
+  if (std::system(cmd.c_str()) != 0) {
+    std::cerr << "dynamap map: warning: ffmpeg failed, timelapse.mp4 not written\n";
+  }
+}
+
+// What runs beside the mapper for each scan: the streamed files, the baseline, the frames.
+struct Writers {
+  Writers(const MapJob& job)
+      : tracks(job.out_dir), poses(job.out_dir), frames_dir(job.out_dir + "/frames") {
+    if (job.baseline) baseline = std::make_unique<PlainGrid>(job.config.map, job.config.insertion);
+    if (job.frames_every > 0) prepareOutputDir(frames_dir);
+  }
+  TrackLog tracks;  // streamed: rows are never kept in memory
+  PoseLog poses;
+  std::unique_ptr<PlainGrid> baseline;
+  Clock::duration baseline_time{};
+  std::string frames_dir;
+};
+
+void afterScan(const MapJob& job, const Mapper& mapper, Writers& w, const ScanRecord& rec) {
+  if (w.baseline) {  // timed on its own, so both runs' speeds can be reported
+    const auto t0 = Clock::now();
+    w.baseline->insert(*rec.scan, rec.pose);
+    w.baseline_time += Clock::now() - t0;
+  }
+  w.tracks.append(rec.index, rec.t, mapper.tracker());
+  w.poses.append(rec.t, rec.pose);
+  if (job.frames_every > 0 && rec.index % static_cast<std::size_t>(job.frames_every) == 0) {
+    writeFrame(w.frames_dir, mapper, rec.index);
+  }
+}
+
+}  // namespace
+
+MapJobResult runMapJob(const MapJob& job) {
+  prepareOutputDir(job.out_dir);  // before any work: an unwritable directory fails fast
+  auto source = openScanSource(job.input, job.config.poses, &job.carmen);
+  Mapper mapper(job.config);
+  Writers w(job);
+  const auto start = Clock::now();
+  MapJobResult r;
+  r.outcome = runMapping(*source, mapper, [&](const ScanRecord& rec, const ScanResult&) {
+    afterScan(job, mapper, w, rec);
+    if (job.progress) job.progress(source->fractionRead(), mapper.counts().scans_used);
+  });
+  w.tracks.finish();
+  w.poses.finish();
+  r.baseline_wall_s = std::chrono::duration<double>(w.baseline_time).count();
+  r.wall_s = secondsSince(start) - r.baseline_wall_s;
+  writeMapOutputs(job.out_dir, mapper, *source,
+                  {job.input, r.wall_s, r.outcome, w.baseline.get(), r.baseline_wall_s});
+  if (job.frames_every > 0) writeTimelapse(job.out_dir, w.frames_dir);
+  r.pose_source = mapper.poseSourceName(*source);
+  r.counts = mapper.counts();
+  r.source_stats = source->stats();
+  r.scan_matching = mapper.scanMatching();
+  r.scan_match_counts = mapper.scanMatchCounts();
+  if (w.baseline) r.baseline = comparePlain(mapper.map(), w.baseline->grid());
+  return r;
+}
+
+}  // namespace dynamap
