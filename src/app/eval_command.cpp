@@ -518,11 +518,13 @@ std::string metric(const std::string& text, const std::string& key, const std::s
   return value == "null" ? "n/a" : value;
 }
 
-int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
-  struct Result {
-    std::string name, path, text;
-  };
-  std::vector<Result> results;
+/// An evaluated result directory's metrics.json, and the name its column gets.
+struct EvaluatedResult {
+  std::string name, path, text;
+};
+
+std::vector<EvaluatedResult> readEvaluated(const std::vector<std::string>& dirs) {
+  std::vector<EvaluatedResult> results;
   for (const auto& d : dirs) {
     const std::string path = (fs::path(d) / "metrics.json").string();
     std::ifstream in(path);
@@ -533,6 +535,11 @@ int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
     if (name.filename().empty()) name = name.parent_path();  // "out/arena/"
     results.push_back({name.filename().string(), path, s.str()});
   }
+  return results;
+}
+
+int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
+  const std::vector<EvaluatedResult> results = readEvaluated(dirs);
   constexpr int kLabel = 28, kColumn = 11;
   o << std::left << std::setw(kLabel) << "" << std::setw(4 * kColumn)
     << "paper (Wolf & Sukhatme, Table 3)"

@@ -25,20 +25,57 @@ constexpr int kNormalRadius = 3;    // [cells] a wall's normal comes from a 7x7 
 constexpr int kNormalMinCells = 4;  // ... of at least this many occupied cells
 constexpr double kNormalMaxSpreadRatio = 0.2;  // ... spread across at most this along
 
-/// The scan's valid beam end points in the robot's frame, cut at `max_range`.
-std::vector<mrpt::math::TPoint2D> scanPoints(const mrpt::obs::CObservation2DRangeScan& scan,
-                                             double max_range) {
+/// The scan's hits in the robot's frame, short of the sensor's own maximum range (a reading
+/// at it is no echo, whatever its flag says) and of the insertion range.
+std::vector<mrpt::math::TPoint2D> scanPoints(const RangeData& rd) {
   std::vector<mrpt::math::TPoint2D> pts;
-  const mrpt::poses::CPose2D sensor(scan.sensorPose);  // horizontal scans only (checked on insert)
-  const double limit = std::min<double>(max_range, scan.maxRange);
-  pts.reserve(scan.getScanSize());
-  for (std::size_t i = 0; i < scan.getScanSize(); ++i) {
-    const double r = scan.getScanRange(i);
-    if (!scan.getScanRangeValidity(i) || !std::isfinite(r) || r <= 0.0 || r >= limit) continue;
-    const double a = scan.getScanAngle(i);
+  const mrpt::poses::CPose2D sensor = rd.mount2D();
+  pts.reserve(rd.size());
+  for (std::size_t i = 0; i < rd.size(); ++i) {
+    const double r = rd.ranges[i];
+    if (rd.kinds[i] != BeamKind::Hit || r <= 0.0 || r >= rd.sensor_max_range) continue;
+    const double a = rd.angle(i);
     pts.push_back(sensor + mrpt::math::TPoint2D(r * std::cos(a), r * std::sin(a)));
   }
   return pts;
+}
+
+/// What the occupied cells around one occupied cell say: where in the cell the wall runs (the
+/// log-odds-weighted centroid of its 3x3 neighbourhood, in cells from its centre) and the wall's
+/// unit normal (the minor axis of the occupied cells of its 7x7 neighbourhood; zero where the
+/// cells do not line up: a lone cell or a blob pins nothing down).
+struct CellWall {
+  long wx = 0, wy = 0, w_sum = 1;  // the centroid is (wx, wy) / w_sum
+  Eigen::Vector2d normal = Eigen::Vector2d::Zero();
+};
+
+template <typename Weight>
+CellWall cellWall(int cx, int cy, int sx, int sy, const Weight& weight) {
+  // Integer sums: exact, so the result is reproducible.
+  long w_sum = 0, wx = 0, wy = 0, w5 = 0, sx5 = 0, sy5 = 0, sxx = 0, syy = 0, sxy = 0;
+  for (int dy = -kNormalRadius; dy <= kNormalRadius; ++dy) {
+    for (int dx = -kNormalRadius; dx <= kNormalRadius; ++dx) {
+      const int nx = cx + dx, ny = cy + dy;
+      if (nx < 0 || ny < 0 || nx >= sx || ny >= sy) continue;
+      const long w = weight(nx, ny);
+      if (w == 0) continue;
+      if (std::abs(dx) <= 1 && std::abs(dy) <= 1) w_sum += w, wx += w * dx, wy += w * dy;
+      // The wall's direction from the cells' layout alone: how occupied each cell is varies
+      // along a wall and would tilt it.
+      w5 += 1, sx5 += dx, sy5 += dy;
+      sxx += dx * dx, syy += dy * dy, sxy += dx * dy;
+    }
+  }
+  const double mx = double(sx5) / w5, my = double(sy5) / w5;
+  Eigen::Matrix2d cov;
+  cov << sxx / double(w5) - mx * mx, sxy / double(w5) - mx * my, sxy / double(w5) - mx * my,
+      syy / double(w5) - my * my;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+  CellWall c;
+  c.wx = wx, c.wy = wy, c.w_sum = w_sum;
+  if (w5 >= kNormalMinCells && eig.eigenvalues()(0) < kNormalMaxSpreadRatio * eig.eigenvalues()(1))
+    c.normal = eig.eigenvectors().col(0);
+  return c;
 }
 
 /// S's occupied cells in the box around the scan's end points seen from `guess`, each as the
@@ -73,35 +110,14 @@ void mapPoints(const DynamicGridMap& map, const std::vector<mrpt::math::TPoint2D
   for (int cy = cy0; cy <= cy1; ++cy) {
     for (int cx = cx0; cx <= cx1; ++cx) {
       if (weight(cx, cy) == 0) continue;
-      // Integer sums: exact, so the result is reproducible.
-      long w_sum = 0, wx = 0, wy = 0, w5 = 0, sx5 = 0, sy5 = 0, sxx = 0, syy = 0, sxy = 0;
-      for (int dy = -kNormalRadius; dy <= kNormalRadius; ++dy) {
-        for (int dx = -kNormalRadius; dx <= kNormalRadius; ++dx) {
-          const int nx = cx + dx, ny = cy + dy;
-          if (nx < 0 || ny < 0 || nx >= sx || ny >= sy) continue;
-          const long w = weight(nx, ny);
-          if (w == 0) continue;
-          if (std::abs(dx) <= 1 && std::abs(dy) <= 1) w_sum += w, wx += w * dx, wy += w * dy;
-          // The wall's direction from the cells' layout alone: how occupied each cell is
-          // varies along a wall and would tilt it.
-          w5 += 1, sx5 += dx, sy5 += dy;
-          sxx += dx * dx, syy += dy * dy, sxy += dx * dy;
-        }
-      }
-      const double mx = double(sx5) / w5, my = double(sy5) / w5;
-      Eigen::Matrix2d cov;
-      cov << sxx / double(w5) - mx * mx, sxy / double(w5) - mx * my, sxy / double(w5) - mx * my,
-          syy / double(w5) - my * my;
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
-      // A normal only where the cells line up (a wall); a lone cell or a blob pins nothing down.
-      const bool wall = w5 >= kNormalMinCells &&
-                        eig.eigenvalues()(0) < kNormalMaxSpreadRatio * eig.eigenvalues()(1);
-      const Eigen::Vector2d n =
-          wall ? Eigen::Vector2d(eig.eigenvectors().col(0)) : Eigen::Vector2d::Zero();
+      const CellWall cw = cellWall(cx, cy, sx, sy, weight);
+      const Eigen::Vector2d& n = cw.normal;
+      const bool wall = n.squaredNorm() > 0;
       // On a wall, points every fifth of a cell along it: point-to-point ICP against one point
       // per cell would leave the scan free to slide by up to half a cell along each wall.
       const double res = map.getResolution();
-      const double px = map.idx2x(cx) + res * wx / w_sum, py = map.idx2y(cy) + res * wy / w_sum;
+      const double px = map.idx2x(cx) + res * cw.wx / cw.w_sum;
+      const double py = map.idx2y(cy) + res * cw.wy / cw.w_sum;
       for (int k = wall ? -2 : 0; k <= (wall ? 2 : 0); ++k) {
         const double along = 0.2 * k * res;  // tangent = (-n.y, n.x)
         out.insertPointFast(static_cast<float>(px - along * n.y()),
@@ -146,41 +162,18 @@ namespace {
 /// field (two-pass chamfer) of the window the search can reach. A prior on the offset keeps
 /// flat directions (a straight corridor) and small gains from wall texture at the guess. Cost: the
 /// window's cells plus (headings x offsets x at most 120 points) lookups, never the map's size.
-mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
-                                      const std::vector<mrpt::math::TPoint2D>& pts,
-                                      const mrpt::poses::CPose2D& guess,
-                                      const ScanMatchOptions& o) {
-  const double res = map.getResolution();
-  const int shift = static_cast<int>(std::floor(o.search_xy_m / res + 1e-9));
-  const int turns = static_cast<int>(std::floor(o.search_deg / 0.5 + 1e-9));
-  if ((shift == 0 && turns == 0) || pts.empty()) return guess;
-  // Up to 120 points, evenly through the scan.
-  std::vector<mrpt::math::TPoint2D> sample;
-  const std::size_t stride = pts.size() / 120 + 1;
-  for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
-  // The window: every cell a point can reach, plus the field's reach.
-  constexpr int kReach = 3;
-  double x0 = guess.x(), x1 = x0, y0 = guess.y(), y1 = y0;
-  for (const auto& p : sample) {
-    const mrpt::math::TPoint2D g = guess + p;
-    x0 = std::min(x0, g.x), x1 = std::max(x1, g.x), y0 = std::min(y0, g.y), y1 = std::max(y1, g.y);
-  }
-  const int sx = static_cast<int>(map.getSizeX()), sy = static_cast<int>(map.getSizeY());
-  const int margin = shift + kReach + 2;
-  const int cx0 = std::max(0, map.x2idx(x0) - margin),
-            cx1 = std::min(sx - 1, map.x2idx(x1) + margin);
-  const int cy0 = std::max(0, map.y2idx(y0) - margin),
-            cy1 = std::min(sy - 1, map.y2idx(y1) + margin);
-  if (cx1 <= cx0 || cy1 <= cy0) return guess;
-  const int w = cx1 - cx0 + 1, h = cy1 - cy0 + 1;
-  // Distance (in cells) to the nearest occupied cell, chamfer 1 / 1.4, capped at kReach + 1.
-  const float far = static_cast<float>(kReach + 1);
-  std::vector<float> dist(static_cast<std::size_t>(w) * h, far);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      if (map.staticOccupancy(cx0 + x, cy0 + y) > o.occupied_threshold) dist[x + y * w] = 0.0f;
-    }
-  }
+constexpr int kReach = 3;  // [cells] a point scores down to 0 this far from an occupied cell
+
+/// The search's scores over a window of the grid: 1 on an occupied cell, falling linearly to 0
+/// at kReach cells from one.
+struct ScoreField {
+  int cx0 = 0, cy0 = 0, w = 0, h = 0;
+  std::vector<float> score;
+  bool empty() const { return w <= 0 || h <= 0; }
+};
+
+/// Two-pass chamfer distance (1 / 1.4 cells) in place, over a w x h window.
+void chamfer(std::vector<float>& dist, int w, int h) {
   auto relax = [&](int x, int y, int dx, int dy, float cost) {
     const int nx = x + dx, ny = y + dy;
     if (nx < 0 || ny < 0 || nx >= w || ny >= h) return;
@@ -199,11 +192,60 @@ mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
       relax(x, y, 1, 1, 1.4f), relax(x, y, -1, 1, 1.4f);
     }
   }
-  std::vector<float> score(dist.size());
-  for (std::size_t i = 0; i < dist.size(); ++i) {
-    score[i] = std::max(0.0f, 1.0f - dist[i] / static_cast<float>(kReach));
+}
+
+/// The field over every cell the sample's points can reach from `guess` shifted by up to
+/// `shift` cells, plus the field's own reach.
+ScoreField scoreField(const DynamicGridMap& map, const std::vector<mrpt::math::TPoint2D>& sample,
+                      const mrpt::poses::CPose2D& guess, int shift, double occupied_threshold) {
+  double x0 = guess.x(), x1 = x0, y0 = guess.y(), y1 = y0;
+  for (const auto& p : sample) {
+    const mrpt::math::TPoint2D g = guess + p;
+    x0 = std::min(x0, g.x), x1 = std::max(x1, g.x), y0 = std::min(y0, g.y), y1 = std::max(y1, g.y);
   }
-  // The search. Odometry drifts little from one scan to the next: each cell of offset costs
+  const int sx = static_cast<int>(map.getSizeX()), sy = static_cast<int>(map.getSizeY());
+  const int margin = shift + kReach + 2;
+  ScoreField f;
+  f.cx0 = std::max(0, map.x2idx(x0) - margin);
+  f.cy0 = std::max(0, map.y2idx(y0) - margin);
+  const int cx1 = std::min(sx - 1, map.x2idx(x1) + margin);
+  const int cy1 = std::min(sy - 1, map.y2idx(y1) + margin);
+  if (cx1 <= f.cx0 || cy1 <= f.cy0) return f;
+  f.w = cx1 - f.cx0 + 1, f.h = cy1 - f.cy0 + 1;
+  // Distance (in cells) to the nearest occupied cell, capped at kReach + 1.
+  std::vector<float> dist(static_cast<std::size_t>(f.w) * f.h, static_cast<float>(kReach + 1));
+  for (int y = 0; y < f.h; ++y) {
+    for (int x = 0; x < f.w; ++x) {
+      if (map.staticOccupancy(f.cx0 + x, f.cy0 + y) > occupied_threshold) dist[x + y * f.w] = 0;
+    }
+  }
+  chamfer(dist, f.w, f.h);
+  f.score.resize(dist.size());
+  for (std::size_t i = 0; i < dist.size(); ++i) {
+    f.score[i] = std::max(0.0f, 1.0f - dist[i] / static_cast<float>(kReach));
+  }
+  return f;
+}
+
+/// The pose near `guess` (within search_xy_m in x and y, on the grid's cells, and search_deg in
+/// heading, in 0.5 degree steps) whose scan points lie best on S's occupied cells, scored through
+/// a distance field of the window the search can reach. A prior on the offset keeps flat
+/// directions (a straight corridor) and small gains from wall texture at the guess. Cost: the
+/// window's cells plus (headings x offsets x at most 120 points) lookups, never the map's size.
+mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
+                                      const std::vector<mrpt::math::TPoint2D>& pts,
+                                      const mrpt::poses::CPose2D& guess,
+                                      const ScanMatchOptions& o) {
+  const double res = map.getResolution();
+  const int shift = static_cast<int>(std::floor(o.search_xy_m / res + 1e-9));
+  const int turns = static_cast<int>(std::floor(o.search_deg / 0.5 + 1e-9));
+  if ((shift == 0 && turns == 0) || pts.empty()) return guess;
+  std::vector<mrpt::math::TPoint2D> sample;  // up to 120 points, evenly through the scan
+  const std::size_t stride = pts.size() / 120 + 1;
+  for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
+  const ScoreField f = scoreField(map, sample, guess, shift, o.occupied_threshold);
+  if (f.empty()) return guess;
+  // Odometry drifts little from one scan to the next: each cell of offset costs
   // search_offset_cost points squared, a turn to the search's edge a twentieth of the points.
   const double turn_prior = 0.05 * static_cast<double>(sample.size());
   double best = -1e300;
@@ -213,19 +255,19 @@ mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
     const mrpt::poses::CPose2D turned(guess.x(), guess.y(), guess.phi() + t * 0.5 * kDegToRad);
     for (std::size_t i = 0; i < sample.size(); ++i) {
       const mrpt::math::TPoint2D g = turned + sample[i];
-      px[i] = map.x2idx(g.x) - cx0;
-      py[i] = map.y2idx(g.y) - cy0;
+      px[i] = map.x2idx(g.x) - f.cx0;
+      py[i] = map.y2idx(g.y) - f.cy0;
     }
     for (int dy = -shift; dy <= shift; ++dy) {
       for (int dx = -shift; dx <= shift; ++dx) {
-        double s = 0;
+        double sc = 0;
         for (std::size_t i = 0; i < sample.size(); ++i) {
           const int x = px[i] + dx, y = py[i] + dy;
-          if (x >= 0 && y >= 0 && x < w && y < h) s += score[x + y * w];
+          if (x >= 0 && y >= 0 && x < f.w && y < f.h) sc += f.score[x + y * f.w];
         }
-        s -= o.search_offset_cost * (dx * dx + dy * dy) +
-             (turns ? turn_prior * (t * t) / double(turns * turns) : 0.0);
-        if (s > best) best = s, best_t = t, best_x = dx, best_y = dy;
+        sc -= o.search_offset_cost * (dx * dx + dy * dy) +
+              (turns ? turn_prior * (t * t) / double(turns * turns) : 0.0);
+        if (sc > best) best = sc, best_t = t, best_x = dx, best_y = dy;
       }
     }
   }
@@ -301,60 +343,40 @@ void ScanMatchOptions::dumpToTextStream(std::ostream& out) const {
   writeIni(out);
 }
 
-ScanMatcher::ScanMatcher(const ScanMatchOptions& options, double max_range_m)
-    : options_(options), max_range_m_(max_range_m) {
+ScanMatcher::ScanMatcher(const ScanMatchOptions& options) : options_(options) {
   options_.validate("scan matching options");
 }
 
-ScanMatchResult ScanMatcher::match(const DynamicGridMap& map,
-                                   const mrpt::obs::CObservation2DRangeScan& scan,
-                                   const mrpt::poses::CPose2D& guess) const {
-  const ScanMatchOptions& o = options_;
-  ScanMatchResult r;
-  r.pose = guess;
-  // 1. The scan's end points, in the robot's frame.
-  const std::vector<mrpt::math::TPoint2D> pts = scanPoints(scan, max_range_m_);
-  r.scan_points = pts.size();
-  if (pts.size() < static_cast<std::size_t>(o.min_scan_points)) {
-    r.fallback_reason = "too few scan points";
-    return r;
-  }
-  // 2. The occupied cells of S around where those points fall, seen from the guess, moved to
-  //    the best pose of a grid search first: drift larger than the overlap gate is caught.
-  const mrpt::poses::CPose2D odometry = guess;
-  const mrpt::poses::CPose2D start = correlativeGuess(map, pts, guess, o);
-  mrpt::maps::CSimplePointsMap reference;
-  std::vector<Eigen::Vector2d> normals;
-  mapPoints(map, pts, start, o, reference, normals);
-  r.map_points = reference.size();
-  if (r.map_points < static_cast<std::size_t>(o.min_map_points)) {
-    r.fallback_reason = "too few map points";
-    return r;
-  }
-  // 3. Only the points that fall on what S already holds, seen from the guess. A point in
-  //    space S has never seen (a wall seen further along a corridor than ever before) has no
-  //    partner in S: the nearest one, the end of the known wall, would drag the robot back, or
-  //    turn it. Points farther from S's walls are also what S does not hold: people, objects
-  //    that moved (they are in D, never in S).
-  const float overlap_d2 = static_cast<float>(o.overlap_distance_m * o.overlap_distance_m);
-  mrpt::maps::CSimplePointsMap scan_map;
-  std::vector<mrpt::math::TPoint2D> overlap;
+namespace {
+
+/// The points of `pts` that fall on what S already holds, seen from `start`, into `scan_map`. A
+/// point in space S has never seen (a wall seen further along a corridor than ever before) has
+/// no partner in S: the nearest one, the end of the known wall, would drag the robot back, or
+/// turn it. Points farther from S's walls are also what S does not hold: people, objects that
+/// moved (they are in D, never in S).
+std::size_t overlapping(const mrpt::maps::CSimplePointsMap& reference,
+                        const std::vector<mrpt::math::TPoint2D>& pts,
+                        const mrpt::poses::CPose2D& start, double overlap_distance,
+                        mrpt::maps::CSimplePointsMap& scan_map) {
+  const float overlap_d2 = static_cast<float>(overlap_distance * overlap_distance);
+  std::size_t n = 0;
   for (const auto& p : pts) {
     const mrpt::math::TPoint2D g = start + p;
     if (reference.kdTreeClosestPoint2DsqrError(static_cast<float>(g.x), static_cast<float>(g.y)) <=
         overlap_d2) {
-      overlap.push_back(p);
+      ++n;
       scan_map.insertPointFast(static_cast<float>(p.x), static_cast<float>(p.y), 0);
     }
   }
   scan_map.mark_as_modified();
-  r.scan_points = overlap.size();
-  if (overlap.size() < static_cast<std::size_t>(o.min_scan_points)) {
-    r.fallback_reason = "too little overlap";
-    return r;
-  }
+  return n;
+}
 
-  // 4. ICP, from the odometry guess.
+/// MRPT's classic point-to-point ICP of `scan_map` onto `reference`, from `start`.
+mrpt::poses::CPose2D icpAlign(const mrpt::maps::CSimplePointsMap& reference,
+                              const mrpt::maps::CSimplePointsMap& scan_map,
+                              const mrpt::poses::CPose2D& start, const ScanMatchOptions& o,
+                              ScanMatchResult& r) {
   mrpt::slam::CICP icp;
   icp.setMinLoggingLevel(mrpt::system::LVL_ERROR);
   auto& io = icp.options;
@@ -371,16 +393,20 @@ ScanMatchResult ScanMatcher::match(const DynamicGridMap& map,
   io.corresponding_points_decimation = 1;  // every point: few points, and the pose must be exact
   mrpt::slam::CICP::TReturnInfo info;
   const auto pdf = icp.Align(&reference, &scan_map, start, info);
-  const mrpt::poses::CPose2D matched = pdf->getMeanVal();
   r.icp_iterations = info.nIterations;
+  return pdf->getMeanVal();
+}
 
-  // 5. Inliers, and how well they pin each direction of the pose down: a wall constrains the
-  //    pose across itself only, so in a straight corridor nothing fixes the position along it.
-  //    There ICP's answer is noise (or the pull of the map's edge): the guess is kept.
-  const float max_d2 = static_cast<float>(o.inlier_distance_m * o.inlier_distance_m);
-  //    Every scan point is judged at the matched pose, not only those that overlapped S at the
-  //    guess.
-  Eigen::Matrix3d fisher = Eigen::Matrix3d::Zero();  // point-to-line information of inliers
+/// The inliers at the matched pose (every scan point judged, not only those that overlapped S at
+/// the guess) and their point-to-line information: a wall constrains the pose across itself
+/// only, so in a straight corridor nothing fixes the position along it.
+Eigen::Matrix3d inlierInformation(const mrpt::maps::CSimplePointsMap& reference,
+                                  const std::vector<Eigen::Vector2d>& normals,
+                                  const std::vector<mrpt::math::TPoint2D>& pts,
+                                  const mrpt::poses::CPose2D& matched, double inlier_distance,
+                                  ScanMatchResult& r) {
+  const float max_d2 = static_cast<float>(inlier_distance * inlier_distance);
+  Eigen::Matrix3d fisher = Eigen::Matrix3d::Zero();
   for (const auto& p : pts) {
     const mrpt::math::TPoint2D g = matched + p;
     float qx, qy, d2;
@@ -394,20 +420,68 @@ ScanMatchResult ScanMatcher::match(const DynamicGridMap& map,
     fisher += j * j.transpose();
   }
   r.inlier_ratio = static_cast<double>(r.inliers) / static_cast<double>(pts.size());
-  const mrpt::poses::CPose2D corrected = keepConstrained(start, matched, fisher, r, o);
-  r.correction_m = std::hypot(corrected.x() - odometry.x(), corrected.y() - odometry.y());
-  r.correction_rad = std::abs(mrpt::math::wrapToPi(corrected.phi() - odometry.phi()));
+  return fisher;
+}
+
+/// The last judgement of a match: a correction too large to be drift, or too few inliers, keeps
+/// the guess.
+void accept(const mrpt::poses::CPose2D& guess, const mrpt::poses::CPose2D& matched,
+            const mrpt::poses::CPose2D& corrected, const ScanMatchOptions& o, ScanMatchResult& r) {
+  r.correction_m = std::hypot(corrected.x() - guess.x(), corrected.y() - guess.y());
+  r.correction_rad = std::abs(mrpt::math::wrapToPi(corrected.phi() - guess.phi()));
   if (!std::isfinite(matched.x()) || !std::isfinite(matched.y()) || !std::isfinite(matched.phi()) ||
       r.correction_m > o.max_correction_m || r.correction_rad > o.max_correction_deg * kDegToRad) {
     r.fallback_reason = "correction too large";
-    return r;
-  }
-  if (r.inlier_ratio < o.min_inlier_ratio) {
+  } else if (r.inlier_ratio < o.min_inlier_ratio) {
     r.fallback_reason = "low inlier ratio";
+  } else {
+    r.pose = corrected;
+    r.matched = true;
+  }
+}
+
+}  // namespace
+
+ScanMatchResult ScanMatcher::match(const DynamicGridMap& map, const RangeData& rd,
+                                   const mrpt::poses::CPose2D& guess) const {
+  const ScanMatchOptions& o = options_;
+  ScanMatchResult r;
+  r.pose = guess;
+  if (!rd.planar) {  // insertion skips it too: nothing to match in the floor's plane
+    r.fallback_reason = "not horizontal";
     return r;
   }
-  r.pose = corrected;
-  r.matched = true;
+  // 1. The scan's end points, in the robot's frame.
+  const std::vector<mrpt::math::TPoint2D> pts = scanPoints(rd);
+  r.scan_points = pts.size();
+  if (pts.size() < static_cast<std::size_t>(o.min_scan_points)) {
+    r.fallback_reason = "too few scan points";
+    return r;
+  }
+  // 2. The occupied cells of S around where those points fall, seen from the guess moved to the
+  //    best pose of a grid search: drift larger than the overlap gate is caught.
+  const mrpt::poses::CPose2D start = correlativeGuess(map, pts, guess, o);
+  mrpt::maps::CSimplePointsMap reference, scan_map;
+  std::vector<Eigen::Vector2d> normals;
+  mapPoints(map, pts, start, o, reference, normals);
+  r.map_points = reference.size();
+  if (r.map_points < static_cast<std::size_t>(o.min_map_points)) {
+    r.fallback_reason = "too few map points";
+    return r;
+  }
+  // 3. Only the points that fall on what S already holds.
+  r.scan_points = overlapping(reference, pts, start, o.overlap_distance_m, scan_map);
+  if (r.scan_points < static_cast<std::size_t>(o.min_scan_points)) {
+    r.fallback_reason = "too little overlap";
+    return r;
+  }
+  // 4. ICP, from the search's pose.
+  const mrpt::poses::CPose2D matched = icpAlign(reference, scan_map, start, o, r);
+  // 5. Inliers, and how well they pin each direction down: along a direction nothing fixes,
+  //    ICP's answer is noise (or the pull of the map's edge), and the guess is kept.
+  const Eigen::Matrix3d fisher =
+      inlierInformation(reference, normals, pts, matched, o.inlier_distance_m, r);
+  accept(guess, matched, keepConstrained(start, matched, fisher, r, o), o, r);
   return r;
 }
 

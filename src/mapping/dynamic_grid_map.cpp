@@ -76,11 +76,19 @@ void DynamicGridMap::resizeGrid(float new_x_min, float new_x_max, float new_y_mi
   syncLayers();
 }
 
+void DynamicGridMap::setSize(float x_min, float x_max, float y_min, float y_max, float resolution,
+                             float default_value) {
+  Base::setSize(x_min, x_max, y_min, y_max, resolution, default_value);
+  syncLayers();
+}
+
+bool DynamicGridMap::layersAligned() const {
+  return m_size_x == layer_size_x_ && m_size_y == layer_size_y_ && m_xMin == layer_x_min_ &&
+         m_yMin == layer_y_min_ && dyn_.size() == m_map.size();
+}
+
 void DynamicGridMap::syncLayers() {
-  if (m_size_x == layer_size_x_ && m_size_y == layer_size_y_ && m_xMin == layer_x_min_ &&
-      m_yMin == layer_y_min_ && dyn_.size() == m_map.size()) {
-    return;
-  }
+  if (layersAligned()) return;
   std::vector<cellType> dyn(m_map.size(), 0);
   if (!dyn_.empty()) {
     // The base grows by whole cells, so the old layer sits at an integer offset.
@@ -114,8 +122,10 @@ void DynamicGridMap::internal_clear() {
 }
 
 float DynamicGridMap::dynamicOccupancy(int cx, int cy) const {
-  if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return 0.5f;
-  return 1.0f - l2p(dyn_[cx + static_cast<std::size_t>(cy) * m_size_x]);
+  // D's own geometry: the same as S's but for a resize of S alone (layersAligned()).
+  if (static_cast<unsigned>(cx) >= layer_size_x_ || static_cast<unsigned>(cy) >= layer_size_y_)
+    return 0.5f;
+  return 1.0f - l2p(dyn_[cx + static_cast<std::size_t>(cy) * layer_size_x_]);
 }
 
 float DynamicGridMap::staticOccupancy(int cx, int cy) const {
@@ -128,8 +138,9 @@ bool DynamicGridMap::isStaticFree(int cx, int cy) const {
 }
 
 bool DynamicGridMap::isObjectCell(int cx, int cy) const {
-  if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return false;
-  return isObjectIndex(cx + static_cast<std::size_t>(cy) * m_size_x);
+  if (static_cast<unsigned>(cx) >= layer_size_x_ || static_cast<unsigned>(cy) >= layer_size_y_)
+    return false;
+  return isObjectIndex(cx + static_cast<std::size_t>(cy) * layer_size_x_);
 }
 
 DynamicGridMap::CellCounts DynamicGridMap::countCells() const {
@@ -137,8 +148,8 @@ DynamicGridMap::CellCounts DynamicGridMap::countCells() const {
   for (std::size_t i = 0; i < m_map.size(); ++i) {
     if (m_map[i] < 0) ++c.static_occupied;
     if (m_map[i] >= free_cell_) ++c.static_free;
-    if (dyn_[i] < object_cell_) ++c.dynamic_occupied;
   }
+  for (const cellType d : dyn_) c.dynamic_occupied += d < object_cell_ ? 1 : 0;
   return c;
 }
 
@@ -148,7 +159,10 @@ bool DynamicGridMap::internal_insertObservation(
   changed_.clear();
   last_stats_ = {};
   if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs)) {
-    return insertScan(*scan, robotPose ? *robotPose : mrpt::poses::CPose3D());
+    const RangeData rd = makeRangeData(*scan, insertion_.max_distance_insertion,
+                                       insertion_.horizontal_tolerance_deg * M_PI / 180.0);
+    syncLayers();  // after a resize of S alone (see layersAligned)
+    return insertScan(rd, robotPose ? *robotPose : mrpt::poses::CPose3D());
   }
   // Anything else is MRPT's business; keep D aligned if it grew the grid.
   const bool done = Base::internal_insertObservation(obs, robotPose);
@@ -189,22 +203,26 @@ inline void DynamicGridMap::applyHit(std::size_t index, bool in_free_space) {
   noteChange(index, d);
 }
 
-bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
-                                const mrpt::poses::CPose3D& robot_pose) {
-  const double tolerance = insertion_.horizontal_tolerance_deg * M_PI / 180.0;
+bool DynamicGridMap::insertRange(const RangeData& rd, const mrpt::poses::CPose2D& robot) {
+  syncLayers();  // after a resize of S alone (see layersAligned)
+  changed_.clear();
+  last_stats_ = {};
+  return insertScan(rd, mrpt::poses::CPose3D(robot));
+}
+
+bool DynamicGridMap::insertScan(const RangeData& rd, const mrpt::poses::CPose3D& robot_pose) {
   last_stats_.skip_reason = "not horizontal";
-  if (!scan.isPlanarScan(tolerance)) return false;
-  const std::size_t n = scan.getScanSize();
+  if (!rd.planar) return false;
   last_stats_.skip_reason = "no beams";
-  if (n == 0) return false;
+  if (rd.size() == 0) return false;
   last_stats_.skip_reason = "aperture not positive";
-  if (!(scan.aperture > 0.0f) || !std::isfinite(scan.aperture)) return false;
+  if (!(rd.aperture > 0.0) || !std::isfinite(rd.aperture)) return false;
   last_stats_.skip_reason = "pose not finite";
   for (double v : {robot_pose.x(), robot_pose.y(), robot_pose.yaw()}) {
     if (!std::isfinite(v)) return false;
   }
 
-  const mrpt::poses::CPose2D sensor = computeBeams(scan, robot_pose);  // 1. where beams end
+  const mrpt::poses::CPose2D sensor = computeBeams(rd, robot_pose);  // 1. where beams end
   if (!std::isfinite(sensor.x()) || !std::isfinite(sensor.y()) || !std::isfinite(sensor.phi())) {
     last_stats_.skip_reason = "sensor pose not finite";  // the scan's own mount, from a file
     return false;
@@ -223,40 +241,34 @@ bool DynamicGridMap::insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
   return last_stats_.inserted;
 }
 
-mrpt::poses::CPose2D DynamicGridMap::computeBeams(const mrpt::obs::CObservation2DRangeScan& scan,
+mrpt::poses::CPose2D DynamicGridMap::computeBeams(const RangeData& rd,
                                                   const mrpt::poses::CPose3D& robot_pose) {
-  const std::size_t n = scan.getScanSize();
-  const mrpt::poses::CPose3D sensor3d = robot_pose + scan.sensorPose;
-  const mrpt::poses::CPose2D sensor(sensor3d);
-  // A sensor mounted upside down sweeps the other way round.
-  const bool upside_down =
-      sensor3d.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>()(2, 2) < 0;
-  const double first = n > 1 ? -0.5 * scan.aperture : 0.0;  // a lone beam looks ahead
-  const double step = n > 1 ? scan.aperture / static_cast<double>(n - 1) : 0.0;
-  const double dir = (scan.rightToLeft ^ upside_down) ? 1.0 : -1.0;
+  const std::size_t n = rd.size();
+  const mrpt::poses::CPose2D sensor = rd.sensorIn(robot_pose);
   const float max_range = static_cast<float>(insertion_.max_distance_insertion);
-
   beams_.assign(n, Beam{});
   float last_valid = max_range;
+  last_stats_.beams_bad = rd.bad_beams;
   for (std::size_t i = 0; i < n; ++i) {
     Beam& b = beams_[i];
-    const double angle = sensor.phi() + dir * (first + step * static_cast<double>(i));
+    const double angle = sensor.phi() + rd.angle(i);
     b.cos = std::cos(angle);
     b.sin = std::sin(angle);
-    const float r = scan.getScanRange(i);
-    if (scan.getScanRangeValidity(i)) {
-      if (!std::isfinite(r) || r < 0.0f) {
-        ++last_stats_.beams_bad;
+    const float r = rd.ranges[i];
+    switch (rd.kinds[i]) {
+      case BeamKind::Bad:
         continue;
-      }
-      b.reach = std::min(max_range, r);
-      b.kind = r < max_range ? kBeamHit : kBeamFreeOnly;
-      last_valid = r;
-    } else if (insertion_.invalid_ranges_as_free) {
-      b.reach = std::min(max_range, 0.5f * last_valid);
-      b.kind = kBeamFreeOnly;
-    } else {
-      continue;
+      case BeamKind::Hit:
+      case BeamKind::Beyond:
+        b.reach = std::min(max_range, r);
+        b.kind = rd.kinds[i] == BeamKind::Hit ? kBeamHit : kBeamFreeOnly;
+        last_valid = r;
+        break;
+      case BeamKind::NoEcho:
+        if (!insertion_.invalid_ranges_as_free) continue;
+        b.reach = std::min(max_range, 0.5f * last_valid);
+        b.kind = kBeamFreeOnly;
+        break;
     }
     b.end_x = static_cast<float>(sensor.x() + b.cos * b.reach);
     b.end_y = static_cast<float>(sensor.y() + b.sin * b.reach);

@@ -68,8 +68,7 @@ Mapper::Mapper(const MapConfig& config)
       tracker_(config.objects),
       path_(config.map.resolution) {
   if (config.poses == PoseSource::ScanMatching) {
-    matcher_ = std::make_unique<ScanMatcher>(config.scan_matching,
-                                             config.insertion.max_distance_insertion);
+    matcher_ = std::make_unique<ScanMatcher>(config.scan_matching);
   }
 }
 
@@ -77,12 +76,12 @@ std::string Mapper::poseSourceName(const ScanSource& source) const {
   return toString(matcher_ ? PoseSource::ScanMatching : source.poseSource());
 }
 
-mrpt::poses::CPose2D Mapper::correctPose(const ScanRecord& rec) {
+mrpt::poses::CPose2D Mapper::correctPose(const ScanRecord& rec, const RangeData& rd) {
   // The odometry increment since the last scan, applied to the last pose used, is the guess.
   const mrpt::poses::CPose2D guess =
       have_pose_ ? last_pose_ + (rec.pose - last_odometry_) : rec.pose;
   // Matched against S only: D's people and moved objects cannot pull the pose.
-  const ScanMatchResult r = matcher_->match(map_, *rec.scan, guess);
+  const ScanMatchResult r = matcher_->match(map_, rd, guess);
   if (r.matched) {
     ++match_counts_.matched;
     match_counts_.sum_correction_m += r.correction_m;
@@ -107,8 +106,11 @@ void Mapper::countTime(const ScanRecord& rec) {
 ScanResult Mapper::process(const ScanRecord& rec) {
   countTime(rec);
   ScanResult result;
-  result.pose = matcher_ ? correctPose(rec) : rec.pose;  // 1. where the scan was taken
-  map_.insertObservation(*rec.scan, mrpt::poses::CPose3D(result.pose));  // 2. S and D
+  // 1. The scan's geometry, once for the matcher, the grid and the tracker.
+  const RangeData rd = makeRangeData(*rec.scan, config_.insertion.max_distance_insertion,
+                                     config_.insertion.horizontal_tolerance_deg * M_PI / 180.0);
+  result.pose = matcher_ ? correctPose(rec, rd) : rec.pose;  // 2. where the scan was taken
+  map_.insertRange(rd, result.pose);                         // 3. S and D
   const ScanInsertStats& st = map_.lastInsertStats();
   counts_.beams_bad += st.beams_bad;
   if (!st.inserted) {
@@ -118,12 +120,12 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   }
   result.inserted = true;
   ++counts_.scans_used;
-  // 3. Objects, from the D cells this scan changed and the scan's view of known places.
+  // 4. Objects, from the D cells this scan changed and the scan's view of known places.
   tracker_.update(map_,
                   makeScanView(*rec.scan, result.pose, config_.insertion.max_distance_insertion),
                   rec.t, rec.index);
   result.object_events = tracker_.eventsOfLastUpdate();
-  path_.add(result.pose.x(), result.pose.y());  // 4. the path the pictures draw
+  path_.add(result.pose.x(), result.pose.y());  // 5. the path the pictures draw
   return result;
 }
 

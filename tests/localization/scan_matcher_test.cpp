@@ -23,6 +23,11 @@ constexpr int kBeams = 361;
 constexpr double kAperture = 2 * M_PI * 360.0 / 361.0;  // all round, no beam twice
 constexpr double kRange = 8.0;
 
+// A scan's range data as the pipeline works it out (8 m insertion range, MRPT's tilt tolerance).
+RangeData rangeOf(const mrpt::obs::CObservation2DRangeScan& scan) {
+  return makeRangeData(scan, kRange, 0.05 * M_PI / 180.0);
+}
+
 /// A 10 x 7 m room with a pillar and a short wall inside, so every direction of the pose is
 /// pinned down; walls off the grid's cell borders and at an angle.
 sim::StaticWorld room() {
@@ -73,7 +78,7 @@ double headingError(const CPose2D& a, const CPose2D& b) {
 void expectRecovered(double resolution, double tolerance_m) {
   const auto world = room();
   const DynamicGridMap map = mappedRoom(world, resolution);
-  const ScanMatcher matcher({}, kRange);
+  const ScanMatcher matcher({});
   const CPose2D truth(0.3, -0.2, 0.15);
   const auto scan = scanFrom(world, truth);
   // Offsets up to overlap_distance_m (0.1 m) from every wall; turns up to 3 degrees.
@@ -81,7 +86,7 @@ void expectRecovered(double resolution, double tolerance_m) {
        {CPose2D(0.07, -0.05, 2 * kDeg), CPose2D(-0.06, 0.05, -3 * kDeg), CPose2D(0.0, 0.08, 0.0)}) {
     SCOPED_TRACE(offset.asString());
     const CPose2D guess = truth + offset;
-    const ScanMatchResult r = matcher.match(map, *scan, guess);
+    const ScanMatchResult r = matcher.match(map, rangeOf(*scan), guess);
     ASSERT_TRUE(r.matched) << r.fallback_reason;
     EXPECT_LT(std::hypot(r.pose.x() - truth.x(), r.pose.y() - truth.y()), tolerance_m);
     EXPECT_LT(headingError(r.pose, truth), 0.5 * kDeg);
@@ -106,7 +111,7 @@ TEST(ScanMatcher, DriftBeyondTheOverlapGateIsRecovered) {
   const CPose2D truth(0.3, -0.2, 0.15);
   const auto scan = scanFrom(world, truth);
   const CPose2D guess = truth + CPose2D(0.11, -0.09, 1.5 * kDeg);  // 0.14 m
-  const ScanMatchResult r = ScanMatcher({}, kRange).match(map, *scan, guess);
+  const ScanMatchResult r = ScanMatcher({}).match(map, rangeOf(*scan), guess);
   ASSERT_TRUE(r.matched) << r.fallback_reason;
   EXPECT_LT(std::hypot(r.pose.x() - truth.x(), r.pose.y() - truth.y()), 0.025);
   EXPECT_LT(headingError(r.pose, truth), 0.5 * kDeg);
@@ -115,15 +120,15 @@ TEST(ScanMatcher, DriftBeyondTheOverlapGateIsRecovered) {
 TEST(ScanMatcher, AMovedObjectInViewDoesNotPullThePose) {
   const auto world = room();
   const DynamicGridMap map = mappedRoom(world);  // S knows the middle of the room as free
-  const ScanMatcher matcher({}, kRange);
+  const ScanMatcher matcher({});
   const CPose2D truth(0.2, 0.1, -0.1);
   const CPose2D guess = truth + CPose2D(0.06, 0.05, 2 * kDeg);
   // A 0.8 m object now stands 1.5 m in front of the robot, where S holds free space, and near
   // a wall it hides partly.
   const std::vector<sim::Body> moved = {{{1.6, -0.1}, 0.4, sim::BodyKind::Object, 1},
                                         {{3.4, 2.9}, 0.3, sim::BodyKind::Object, 2}};
-  const ScanMatchResult clean = matcher.match(map, *scanFrom(world, truth), guess);
-  const ScanMatchResult with = matcher.match(map, *scanFrom(world, truth, moved), guess);
+  const ScanMatchResult clean = matcher.match(map, rangeOf(*scanFrom(world, truth)), guess);
+  const ScanMatchResult with = matcher.match(map, rangeOf(*scanFrom(world, truth, moved)), guess);
   ASSERT_TRUE(clean.matched) << clean.fallback_reason;
   ASSERT_TRUE(with.matched) << with.fallback_reason;
   EXPECT_LT(with.inlier_ratio, clean.inlier_ratio);  // the object was in view
@@ -135,16 +140,17 @@ TEST(ScanMatcher, AMovedObjectInViewDoesNotPullThePose) {
 TEST(ScanMatcher, APoorMatchKeepsTheGuessAndSaysWhy) {
   const auto world = room();
   const DynamicGridMap map = mappedRoom(world);
-  const ScanMatcher matcher({}, kRange);
+  const ScanMatcher matcher({});
   const CPose2D truth(0.3, -0.2, 0.15);
   // Odometry 1 m and 20 degrees off: no match within max_correction_m.
   const CPose2D guess = truth + CPose2D(1.0, 0.5, 20 * kDeg);
-  const ScanMatchResult r = matcher.match(map, *scanFrom(world, truth), guess);
+  const ScanMatchResult r = matcher.match(map, rangeOf(*scanFrom(world, truth)), guess);
   EXPECT_FALSE(r.matched);
   ASSERT_NE(r.fallback_reason, nullptr);
   EXPECT_EQ(r.pose, guess);
   // Nothing mapped yet: nothing to match against.
-  const ScanMatchResult empty = matcher.match(DynamicGridMap{}, *scanFrom(world, truth), truth);
+  const ScanMatchResult empty =
+      matcher.match(DynamicGridMap{}, rangeOf(*scanFrom(world, truth)), truth);
   EXPECT_FALSE(empty.matched);
   EXPECT_STREQ(empty.fallback_reason, "too few map points");
 }
@@ -152,10 +158,11 @@ TEST(ScanMatcher, APoorMatchKeepsTheGuessAndSaysWhy) {
 TEST(ScanMatcher, SameInputGivesTheSamePose) {
   const auto world = room();
   const DynamicGridMap map = mappedRoom(world);
-  const ScanMatcher matcher({}, kRange);
+  const ScanMatcher matcher({});
   const auto scan = scanFrom(world, CPose2D(0.3, -0.2, 0.15));
   const CPose2D guess(0.35, -0.25, 0.2);
-  const ScanMatchResult a = matcher.match(map, *scan, guess), b = matcher.match(map, *scan, guess);
+  const ScanMatchResult a = matcher.match(map, rangeOf(*scan), guess),
+                        b = matcher.match(map, rangeOf(*scan), guess);
   EXPECT_EQ(a.pose.x(), b.pose.x());
   EXPECT_EQ(a.pose.y(), b.pose.y());
   EXPECT_EQ(a.pose.phi(), b.pose.phi());

@@ -349,5 +349,41 @@ TEST(DynamicGridMapScenes, GrowingTheMapKeepsSAndDAligned) {
   EXPECT_EQ(objectCells(m), objects_before);
 }
 
+TEST(DynamicGridMapScenes, SetSizeGivesSAndDTheNewGeometryTogether) {
+  DynamicGridMap m = emptyMap();
+  for (int k = 0; k < 20; ++k) scanWall(m);
+  for (int k = 0; k < 5; ++k) scanWall(m, 0.65);
+  const double ox = m.idx2x(56), oy = m.idx2y(50);
+  m.setSize(-8, 8, -6, 6, static_cast<float>(kRes));
+  EXPECT_TRUE(m.layersAligned());
+  ASSERT_EQ(m.dynamicRaw().size(), m.getRawMap().size());
+  EXPECT_TRUE(m.isObjectCell(m.x2idx(ox), m.y2idx(oy)));               // D kept where it was
+  EXPECT_FLOAT_EQ(m.staticOccupancy(m.x2idx(ox), m.y2idx(oy)), 0.5f);  // S refilled, as MRPT does
+}
+
+TEST(DynamicGridMapScenes, ResizingSAloneThroughTheBaseNeverReadsDOutOfItsBounds) {
+  DynamicGridMap m = emptyMap();
+  for (int k = 0; k < 20; ++k) scanWall(m);
+  for (int k = 0; k < 5; ++k) scanWall(m, 0.65);
+  const double ox = m.idx2x(56), oy = m.idx2y(50);
+  mrpt::maps::COccupancyGridMap2D& base = m;  // the base's setSize is not virtual
+  base.setSize(-30, 30, -30, 30, static_cast<float>(kRes));
+  EXPECT_FALSE(m.layersAligned());
+  std::size_t objects = 0;  // every cell of the new geometry asked: in bounds (ASan checks)
+  for (unsigned y = 0; y < m.getSizeY(); ++y) {
+    for (unsigned x = 0; x < m.getSizeX(); ++x) {
+      objects += m.isObjectCell(static_cast<int>(x), static_cast<int>(y)) ? 1 : 0;
+      EXPECT_GE(m.dynamicOccupancy(static_cast<int>(x), static_cast<int>(y)), 0.5f);
+    }
+  }
+  EXPECT_GT(objects, 0u);
+  EXPECT_EQ(m.countCells().dynamic_occupied, objects);
+  // The next insertion realigns D with S, keeping each D cell at its place in the world (a beam
+  // looking the other way, so the model leaves the object's cells as they were).
+  m.insertObservation(*makeScan({1.0f}, 0.01), CPose3D(0.05, 0.05, 0, M_PI, 0, 0));
+  EXPECT_TRUE(m.layersAligned());
+  EXPECT_TRUE(m.isObjectCell(m.x2idx(ox), m.y2idx(oy)));
+}
+
 }  // namespace
 }  // namespace dynamap

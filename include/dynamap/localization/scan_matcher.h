@@ -20,6 +20,7 @@
 #include <iosfwd>
 #include <string>
 
+#include "dynamap/base/range_data.h"
 #include "dynamap/mapping/dynamic_grid_map.h"
 
 namespace dynamap {
@@ -115,18 +116,19 @@ struct ScanMatchResult {
 
 class ScanMatcher {
  public:
-  explicit ScanMatcher(const ScanMatchOptions& options, double max_range_m);
+  explicit ScanMatcher(const ScanMatchOptions& options);
 
-  /// Aligns `scan` to the occupied cells of S (never D) of `map`, starting from `guess` (the
-  /// robot's pose). Returns ICP's pose when the match is good, `guess` otherwise.
-  ScanMatchResult match(const DynamicGridMap& map, const mrpt::obs::CObservation2DRangeScan& scan,
+  /// Aligns the scan `rd` (its hits: beams short of the insertion range and of the sensor's
+  /// maximum) to the occupied cells of S (never D) of `map`, starting from `guess` (the robot's
+  /// pose). Returns ICP's pose when the match is good, `guess` otherwise; a scan that is not
+  /// planar is not matched ("not horizontal").
+  ScanMatchResult match(const DynamicGridMap& map, const RangeData& rd,
                         const mrpt::poses::CPose2D& guess) const;
 
   const ScanMatchOptions& options() const { return options_; }
 
  private:
   ScanMatchOptions options_;
-  double max_range_m_;  // beams beyond this are not matched (the insertion's cut)
 };
 
 }  // namespace dynamap

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "dynamap/base/range_data.h"
 #include "dynamap/mapping/dynamic_map_options.h"
 #include "dynamap/mapping/polygon_fill.h"
 
@@ -50,11 +51,25 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
                           float x_max = 10.f, float y_min = -10.f, float y_max = 10.f);
 
   const DynamicMapOptions& options() const { return options_; }
+
+  /// Inserts a scan already worked out as range data (the pipeline's route: the same geometry
+  /// the matcher and the tracker read), taken with the robot at `robot`. MRPT's
+  /// insertObservation() of a CObservation2DRangeScan works the range data out and comes here.
+  /// False when the scan was skipped (lastInsertStats() says why).
+  bool insertRange(const RangeData& rd, const mrpt::poses::CPose2D& robot);
   const InsertionOptions& insertion() const { return insertion_; }
 
   /// Grows S and D together, keeping every cell's content (hides the base's non-virtual one).
   void resizeGrid(float new_x_min, float new_x_max, float new_y_min, float new_y_max,
                   float new_cells_default_value = 0.5f, bool additionalMargin = true) noexcept;
+  /// Gives S and D a new geometry together (hides the base's non-virtual one): S is filled with
+  /// `default_value` as MRPT does, D keeps what it held where the two geometries overlap.
+  void setSize(float x_min, float x_max, float y_min, float y_max, float resolution,
+               float default_value = 0.5f);
+  /// Whether D has S's geometry. The base's own resizing (through a base pointer, or loading a
+  /// grid) changes S alone: D is then realigned at the next insertion, and until then the D
+  /// accessors below answer from D's last geometry, never out of its bounds.
+  bool layersAligned() const;
 
   // --- the dynamic layer -------------------------------------------------------------------
   /// P(occupied) of D at a cell; 0.5 outside the grid.
@@ -66,7 +81,7 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   /// D cell above object_threshold.
   bool isObjectCell(int cx, int cy) const;
   bool isObjectIndex(std::size_t index) const { return dyn_[index] < object_cell_; }
-  /// Raw D cells, row by row like getRawMap().
+  /// Raw D cells, row by row like getRawMap() when layersAligned().
   const std::vector<cellType>& dynamicRaw() const { return dyn_; }
 
   /// Linear indices (x + y * getSizeX()) of the D cells that crossed object_threshold, either
@@ -97,10 +112,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   void internal_clear() override;
 
   // The per-scan steps of insertScan, in order.
-  bool insertScan(const mrpt::obs::CObservation2DRangeScan& scan,
-                  const mrpt::poses::CPose3D& robot_pose);
-  mrpt::poses::CPose2D computeBeams(const mrpt::obs::CObservation2DRangeScan& scan,
-                                    const mrpt::poses::CPose3D& robot_pose);
+  bool insertScan(const RangeData& rd, const mrpt::poses::CPose3D& robot_pose);
+  mrpt::poses::CPose2D computeBeams(const RangeData& rd, const mrpt::poses::CPose3D& robot_pose);
   /// False (nothing grown) when the scan would take the grid past max_map_size_m.
   bool growToFit(const mrpt::poses::CPose2D& sensor);
   void nextStamp();
@@ -161,13 +174,13 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   std::array<cellType, 256> miss_s_{}, miss_d_{};  // a miss's update, by the cell's bits
 
   // Per-scan scratch, kept to avoid reallocations.
-  enum BeamKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
+  enum RayKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
   struct Beam {
     double cos = 1, sin = 0;  // direction in the map frame
     float reach = 0;          // [m] how far the beam reaches (0: not used)
     float stop = 0;           // [m] how far it frees space: reach less the surface guard
     float end_x = 0, end_y = 0;
-    BeamKind kind = kBeamNone;
+    RayKind kind = kBeamNone;
     double covered = 0;  // [m] the swept wedges free this beam's line up to here
   };
   struct Wedge {

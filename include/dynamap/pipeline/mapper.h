@@ -89,7 +89,7 @@ class Mapper {
  private:
   void countTime(const ScanRecord& rec);
   /// The odometry pose of `rec` turned into the pose to insert it at (scan matching).
-  mrpt::poses::CPose2D correctPose(const ScanRecord& rec);
+  mrpt::poses::CPose2D correctPose(const ScanRecord& rec, const RangeData& rd);
 
   MapConfig config_;
   DynamicGridMap map_;

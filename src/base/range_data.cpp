@@ -1,0 +1,48 @@
+#include "dynamap/base/range_data.h"
+
+#include <mrpt/math/CMatrixFixed.h>
+
+#include <cmath>
+
+namespace dynamap {
+
+mrpt::poses::CPose2D RangeData::sensorIn(const mrpt::poses::CPose3D& robot) const {
+  return mrpt::poses::CPose2D(robot + mount);
+}
+
+namespace {
+
+BeamKind kindOf(const mrpt::obs::CObservation2DRangeScan& scan, std::size_t i, float range,
+                double insertion_range) {
+  if (!scan.getScanRangeValidity(i)) return BeamKind::NoEcho;
+  if (!std::isfinite(range) || range < 0.0f) return BeamKind::Bad;
+  return range < static_cast<float>(insertion_range) ? BeamKind::Hit : BeamKind::Beyond;
+}
+
+}  // namespace
+
+RangeData makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double insertion_range,
+                        double horizontal_tolerance) {
+  RangeData rd;
+  const std::size_t n = scan.getScanSize();
+  rd.mount = scan.sensorPose;
+  // The mount's z axis pointing down: the scan plane is seen from below.
+  rd.upside_down = scan.sensorPose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>()(2, 2) < 0;
+  rd.planar = scan.isPlanarScan(horizontal_tolerance);
+  rd.aperture = scan.aperture;
+  rd.first = n > 1 ? -0.5 * scan.aperture : 0.0;  // a lone beam looks ahead
+  rd.step = n > 1 ? scan.aperture / static_cast<double>(n - 1) : 0.0;
+  rd.dir = (scan.rightToLeft ^ rd.upside_down) ? 1.0 : -1.0;
+  rd.insertion_range = insertion_range;
+  rd.sensor_max_range = scan.maxRange;
+  rd.ranges.resize(n);
+  rd.kinds.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    rd.ranges[i] = scan.getScanRange(i);
+    rd.kinds[i] = kindOf(scan, i, rd.ranges[i], insertion_range);
+    if (rd.kinds[i] == BeamKind::Bad) ++rd.bad_beams;
+  }
+  return rd;
+}
+
+}  // namespace dynamap
