@@ -90,7 +90,7 @@ int ObjectTracker::followedTrack(const ShapeEstimate& s) const {
   double best_d = std::numeric_limits<double>::infinity();
   for (const auto& kv : tracks_) {
     const Track& tr = kv.second;
-    if (tr.stale_of || tr.cells.empty()) continue;
+    if (tr.isStale() || tr.cells.empty()) continue;
     const double d = std::hypot(tr.shape.cx - s.cx, tr.shape.cy - s.cy);
     if (d <= 0.5 * tr.shape.size + options_.follow_margin && d < best_d) {
       best_d = d;
@@ -177,63 +177,22 @@ void ObjectTracker::recluster(const DynamicGridMap& map, const std::vector<CellK
   }
 }
 
-namespace {
-constexpr std::size_t kFitPoints = 200;  // points a shape is fitted to, at most
-}  // namespace
-
 void ObjectTracker::refresh(Track& tr, double res) {
   if (tr.cells.empty()) return;
-  std::vector<CellXY> xy;
-  xy.reserve(tr.cells.size());
-  for (const CellKey k : tr.cells) xy.push_back(cellOf(k));
-  ShapeEstimate s = estimateShape(xy, res, options_);
-  // The hit points in its cells, when there are enough, measure it to the centimetre.
-  // A cluster longer than any object (a wall seen off by localisation) needs no finer size.
-  if (s.length > options_.max_size) tr.points.clear();
-  for (auto it = tr.points.begin(); it != tr.points.end();) {
-    if (std::binary_search(tr.cells.begin(), tr.cells.end(), it->second.cell)) {
-      ++it;
-    } else {
-      it = tr.points.erase(it);  // its cell left the object: a point of the past
-    }
+  const ShapeEstimate s = measureShape(tr, res, sensor_x_, sensor_y_, options_);
+  if (Confirmed* c = tr.confirmed()) {
+    // A fading object keeps the estimate made from the most cells: its last cells are a part.
+    if (s.cells < c->best_cells) return;
+    c->best_cells = s.cells;
+  } else if (Stale* st = tr.stale()) {
+    st->best_cells = std::max(st->best_cells, s.cells);
   }
-  // At most kFitPoints, evenly through the bins, keep the fit's cost bounded.
-  const std::size_t stride = tr.points.size() / kFitPoints + 1;
-  std::vector<double> px, py;
-  double gap = std::numeric_limits<double>::infinity();  // the nearest view's beam spacing
-  std::size_t i = 0;
-  for (const auto& kv : tr.points) {
-    gap = std::min(gap, kv.second.gap);
-    if (i++ % stride != 0) continue;
-    px.push_back(kv.second.x);
-    py.push_back(kv.second.y);
-  }
-  ShapeEstimate fine;
-  if (estimatePointShape(px, py, gap, sensor_x_, sensor_y_, options_, fine)) {
-    fine.cells = s.cells;  // the filters and the fading rule count cells
-    fine.thickness = s.thickness;
-    fine.length = s.length;
-    s = fine;
-  }
-  // A fading object keeps the estimate made from the most cells: its last cells are a part.
-  if (tr.id == 0 || s.cells >= tr.best_cells) {
-    tr.shape = s;
-    tr.best_cells = std::max(tr.best_cells, s.cells);
-  }
-}
-
-bool ObjectTracker::passesFilters(const Track& tr) const {
-  // A thin row of cells along a wall is the wall seen at a grazing angle (or off by
-  // localisation), not an object: no cylinder or person shows a straight row that long.
-  const bool wall_row = tr.hugs_wall && tr.shape.thickness < options_.thin_width &&
-                        tr.shape.length >= options_.thin_length;
-  return !wall_row && static_cast<int>(tr.cells.size()) >= options_.min_cells &&
-         tr.shape.size >= options_.min_size && tr.shape.size <= options_.max_size;
+  tr.shape = s;
 }
 
 int ObjectTracker::trackOf(int id) const {
   for (const auto& kv : tracks_) {
-    if (kv.second.id == id) return kv.first;
+    if (kv.second.objectId() == id) return kv.first;
   }
   return 0;
 }
@@ -248,8 +207,8 @@ void ObjectTracker::dropLostTracks(double t, std::size_t scan_index) {
     if (it == tracks_.end() || !it->second.cells.empty()) continue;
     const Track& tr = it->second;
     // Cells fade only under beams that crossed them: the place was in view and seen free.
-    if (tr.id && !tr.stale_of) {
-      TrackedObject& o = object(tr.id);
+    if (const Confirmed* c = tr.confirmed()) {
+      TrackedObject& o = object(c->id);
       o.state = ObjectState::Absent;
       o.vanished_t = t;
       emit(t, scan_index, o, ObjectEvent::Disappeared);
@@ -263,43 +222,43 @@ void ObjectTracker::checkStalePlaces(const ScanView& view, double t, std::size_t
   const double margin = std::max(0.05, 2 * resolution_);
   for (auto& kv : tracks_) {
     Track& tr = kv.second;
-    if (!tr.stale_of) continue;
+    Stale* st = tr.stale();
+    if (!st) continue;
     const PlaceView pv = viewOf(view, tr.shape.cx, tr.shape.cy, 0.5 * tr.shape.size, margin);
-    tr.seen_occupied = pv == PlaceView::SeenOccupied ? tr.seen_occupied + 1 : 0;
-    // Seen occupied longer than D needs to fade a vacated cell: the object never left. If the
-    // detection taken for it is still under its id, that was another object: it gets an id
-    // of its own, and this one its id back.
-    if (tr.seen_occupied <= options_.confirm_scans + 4) continue;
-    const int id = tr.stale_of;
-    const auto took = tracks_.find(tr.moved_to);
-    if (took != tracks_.end() && took->second.id == id) {
-      const int other = newObject(t);
-      took->second.id = other;
-      TrackedObject& o2 = object(other);
-      o2.shape = took->second.shape;
-      o2.last_seen_t = object(id).last_seen_t;
-      o2.history.push_back({t, o2.shape.cx, o2.shape.cy});
-      emit(t, scan_index, o2, ObjectEvent::New);
-      TrackedObject& o = object(id);
-      o.n_moves = std::max(0, o.n_moves - 1);  // the move was not one
-      o.shape = tr.shape;
-      o.state = ObjectState::Present;
-      o.last_seen_t = t;
-      o.history.push_back({t, o.shape.cx, o.shape.cy});
-      tr.id = id;
-      tr.stale_of = 0;
-      tr.moved_to = 0;
-      tr.anchor_x = tr.shape.cx;
-      tr.anchor_y = tr.shape.cy;
-      emit(t, scan_index, o, ObjectEvent::Reappeared);
+    st->seen_occupied = pv == PlaceView::SeenOccupied ? st->seen_occupied + 1 : 0;
+    // Seen occupied longer than D needs to fade a vacated cell: the object never left.
+    if (st->seen_occupied <= options_.confirm_scans + 4) continue;
+    const auto took = tracks_.find(st->moved_to);
+    if (took != tracks_.end() && took->second.objectId() == st->object_id) {
+      revive(tr, took->second, t, scan_index);
       continue;
     }
-    tr.exclude_id = tr.stale_of;  // it has moved on since: this is a new object
-    tr.stale_of = 0;
-    tr.passes = 0;
-    tr.best_cells = 0;
+    // Its object has moved on since: what is here is a new object, and never that one.
+    Tentative reopened;
+    reopened.exclude_id = st->object_id;
+    tr.state = reopened;
     pending_.insert(kv.first);
   }
+}
+
+void ObjectTracker::revive(Track& place, Track& took, double t, std::size_t scan_index) {
+  const Stale st = *place.stale();
+  const int id = st.object_id;
+  const int other = newObject(t);
+  took.confirmed()->id = other;
+  TrackedObject& o2 = object(other);
+  o2.shape = took.shape;
+  o2.last_seen_t = object(id).last_seen_t;
+  o2.history.push_back({t, o2.shape.cx, o2.shape.cy});
+  emit(t, scan_index, o2, ObjectEvent::New);
+  TrackedObject& o = object(id);
+  o.n_moves = std::max(0, o.n_moves - 1);  // the move was not one
+  o.shape = place.shape;
+  o.state = ObjectState::Present;
+  o.last_seen_t = t;
+  o.history.push_back({t, o.shape.cx, o.shape.cy});
+  place.state = Confirmed{id, place.shape.cx, place.shape.cy, st.best_cells};
+  emit(t, scan_index, o, ObjectEvent::Reappeared);
 }
 
 void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_t scan_index) {
@@ -307,32 +266,25 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
   for (const int key : touched_) candidates.insert(key);
   for (const int key : candidates) {
     auto it = tracks_.find(key);
-    if (it == tracks_.end()) {
+    Tentative* tent = it == tracks_.end() ? nullptr : it->second.tentative();
+    if (!tent) {
       pending_.erase(key);
       continue;
     }
-    Track& tr = it->second;
-    if (tr.id || tr.stale_of) {
-      pending_.erase(key);
-      continue;
-    }
-    if (!passesFilters(tr)) {
-      tr.passes = 0;
+    const Track& tr = it->second;
+    if (!passesFilters(tr, options_)) {
+      tent->passes = 0;
       pending_.erase(key);
       continue;
     }
     pending_.insert(key);
-    if (tr.passes == 0) tr.first_t = t;
+    if (tent->passes == 0) tent->first_t = t;
     // Count only scans that left its size as it was: an object is judged once its size has
     // settled (it is all there, and the robot has seen enough of it to tell its size).
-    const bool settled = std::abs(tr.shape.size - tr.last_size) <= options_.settle_size;
-    tr.last_size = tr.shape.size;
-    if (!settled) {
-      tr.passes = 1;
-    } else {
-      ++tr.passes;
-    }
-    if (tr.passes >= options_.confirm_scans && confirm(key, view, t, scan_index)) {
+    const bool settled = std::abs(tr.shape.size - tent->last_size) <= options_.settle_size;
+    tent->last_size = tr.shape.size;
+    tent->passes = settled ? tent->passes + 1 : 1;
+    if (tent->passes >= options_.confirm_scans && confirm(key, view, t, scan_index)) {
       pending_.erase(key);
     }
   }
@@ -347,15 +299,15 @@ int ObjectTracker::newObject(double t) {
   return o.id;
 }
 
-bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t scan_index) {
-  Track& tr = tracks_[key];
+void ObjectTracker::identityCandidates(const ShapeEstimate& s, int exclude_id,
+                                       const ScanView& view, double t,
+                                       std::vector<IdentityCandidate>& cands,
+                                       std::vector<int>& ids) const {
   const double margin = std::max(0.05, 2 * resolution_);
-  std::vector<IdentityCandidate> cands;
-  std::vector<int> ids;
   for (const TrackedObject& o : objects_) {
-    if (o.id == tr.exclude_id) continue;
+    if (o.id == exclude_id) continue;
     const bool absent = o.state == ObjectState::Absent;
-    const double dist = std::hypot(o.shape.cx - tr.shape.cx, o.shape.cy - tr.shape.cy);
+    const double dist = std::hypot(o.shape.cx - s.cx, o.shape.cy - s.cy);
     // A present object right here would have been followed, not re-found.
     if (!absent && dist <= options_.reappear_distance) continue;
     PlaceView pv = PlaceView::NotInView;
@@ -367,8 +319,15 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
     cands.push_back({o.shape.cx, o.shape.cy, o.shape.size, absent, o.vanished_t, pv});
     ids.push_back(o.id);
   }
-  const int pick = chooseIdentity(tr.shape, t, cands, options_);
+}
 
+bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t scan_index) {
+  Track& tr = tracks_[key];
+  const Tentative tent = *tr.tentative();
+  std::vector<IdentityCandidate> cands;
+  std::vector<int> ids;
+  identityCandidates(tr.shape, tent.exclude_id, view, t, cands, ids);
+  const int pick = chooseIdentity(tr.shape, t, cands, options_);
   ObjectEvent ev = ObjectEvent::New;
   int id = 0;
   if (pick < 0) {
@@ -376,31 +335,19 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
   } else {
     id = ids[static_cast<std::size_t>(pick)];
     TrackedObject& o = object(id);
-    const double dist = std::hypot(o.shape.cx - tr.shape.cx, o.shape.cy - tr.shape.cy);
+    const bool present = o.state == ObjectState::Present;
     // Only an object still shown at a place out of sight fits: wait until that place is seen
     // (free: it moved here; occupied: this is another object), for at most defer_s.
-    if (o.state == ObjectState::Present && t - tr.first_t < options_.defer_s) return false;
-    if (o.state == ObjectState::Present) {
-      // Its old place was not seen vacated: keep those cells as a stale place to check.
-      const int old = trackOf(id);
-      if (old) {
-        Track& st = tracks_[old];
-        st.id = 0;
-        st.stale_of = id;
-        st.moved_to = key;
-        st.seen_occupied = 0;
-      }
-      ev = ObjectEvent::Moved;
-    } else {
-      ev = dist <= options_.reappear_distance ? ObjectEvent::Reappeared : ObjectEvent::Moved;
-    }
+    if (present && t - tent.first_t < options_.defer_s) return false;
+    // Its old place was not seen vacated: keep those cells as a stale place to check.
+    if (present) leavePlace(id, key);
+    const double dist = std::hypot(o.shape.cx - tr.shape.cx, o.shape.cy - tr.shape.cy);
+    const bool back = !present && dist <= options_.reappear_distance;
+    ev = back ? ObjectEvent::Reappeared : ObjectEvent::Moved;
     if (ev == ObjectEvent::Moved) ++o.n_moves;
   }
+  tr.state = Confirmed{id, tr.shape.cx, tr.shape.cy, tr.shape.cells};
   TrackedObject& o = object(id);
-  tr.id = id;
-  tr.best_cells = tr.shape.cells;
-  tr.anchor_x = tr.shape.cx;
-  tr.anchor_y = tr.shape.cy;
   o.shape = tr.shape;
   o.state = ObjectState::Present;
   o.last_seen_t = t;
@@ -409,17 +356,26 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
   return true;
 }
 
+void ObjectTracker::leavePlace(int id, int moved_to) {
+  const int old = trackOf(id);
+  if (!old) return;
+  Track& place = tracks_[old];
+  place.state = Stale{id, moved_to, place.confirmed()->best_cells, 0};
+}
+
 void ObjectTracker::checkDrift(double t, std::size_t scan_index) {
   for (const int key : touched_) {
     auto it = tracks_.find(key);
     if (it == tracks_.end()) continue;
     Track& tr = it->second;
-    if (!tr.id || tr.cells.empty()) continue;
-    TrackedObject& o = object(tr.id);
+    Confirmed* c = tr.confirmed();
+    if (!c || tr.cells.empty()) continue;
+    TrackedObject& o = object(c->id);
     o.shape = tr.shape;
-    if (std::hypot(tr.shape.cx - tr.anchor_x, tr.shape.cy - tr.anchor_y) > options_.move_distance) {
-      tr.anchor_x = tr.shape.cx;
-      tr.anchor_y = tr.shape.cy;
+    if (std::hypot(tr.shape.cx - c->anchor_x, tr.shape.cy - c->anchor_y) >
+        options_.move_distance) {
+      c->anchor_x = tr.shape.cx;
+      c->anchor_y = tr.shape.cy;
       ++o.n_moves;
       o.history.push_back({t, o.shape.cx, o.shape.cy});
       emit(t, scan_index, o, ObjectEvent::Moved);

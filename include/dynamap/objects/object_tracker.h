@@ -24,6 +24,7 @@
 #include "dynamap/objects/object_table.h"
 #include "dynamap/objects/scan_view.h"
 #include "dynamap/objects/shape.h"
+#include "dynamap/objects/track.h"
 
 namespace dynamap {
 
@@ -49,49 +50,24 @@ class ObjectTracker {
   std::size_t objectCellCount() const { return cells_.size(); }
 
  private:
-  // A cluster being followed: confirmed ones carry an object id, tentative ones id 0. A stale
-  // one holds the cells an object left when its move was not seen (stale_of = its id): it is
-  // never reported, and ends when its cells fade (the place was seen free) or, seen occupied,
-  // becomes a tentative cluster again (the object there was another one).
-  struct Track {
-    int id = 0;
-    std::vector<CellKey> cells;
-    ShapeEstimate shape;
-    int passes = 0;                     // consecutive scans passing the filters (tentative)
-    double last_size = 0;               // size at the last filter pass
-    double first_t = 0;                 // when it first passed
-    std::size_t best_cells = 0;         // most cells seen at this place: the size follows those
-    double anchor_x = 0, anchor_y = 0;  // where the last event placed it
-    int exclude_id = 0;  // identity must not pick this object (a stale place re-found)
-    int stale_of = 0;
-    int moved_to = 0;        // stale: the track whose detection took its id
-    bool hugs_wall = false;  // some cell is near a cell S does not hold free
-    // The latest hit point in each centimetre bin of its cells: the size is fitted to these.
-    struct HitPoint {
-      double x, y;
-      double gap;    // [m] between its beam and the next at that range
-      CellKey cell;  // the object cell it fell in
-    };
-    std::map<CellKey, HitPoint> points;
-    int seen_occupied = 0;  // stale: consecutive scans that saw the place occupied
-  };
-
   void foldChanges(const DynamicGridMap& map, std::vector<CellKey>& dirty);
   void recluster(const DynamicGridMap& map, const std::vector<CellKey>& dirty);
-  std::vector<CellXY> usableNeighbours(const DynamicGridMap& map, CellKey seed, int radius) const;
   bool isWallNoise(const DynamicGridMap& map, CellXY c) const;
   bool nearNotFree(const DynamicGridMap& map, CellXY c, double distance) const;
   int ownerOfMost(const std::vector<CellXY>& cluster) const;
   int followedTrack(const ShapeEstimate& s) const;
   void refresh(Track& tr, double resolution);
   void collectPoints(const DynamicGridMap& map, const ScanView& view);
-  bool passesFilters(const Track& tr) const;
   void dropLostTracks(double t, std::size_t scan_index);
   void confirmTentatives(const ScanView& view, double t, std::size_t scan_index);
+  void identityCandidates(const ShapeEstimate& s, int exclude_id, const ScanView& view, double t,
+                          std::vector<IdentityCandidate>& cands, std::vector<int>& ids) const;
   bool confirm(int key, const ScanView& view, double t, std::size_t scan_index);
+  void leavePlace(int id, int moved_to);
   int newObject(double t);
   void checkDrift(double t, std::size_t scan_index);
   void checkStalePlaces(const ScanView& view, double t, std::size_t scan_index);
+  void revive(Track& place, Track& took, double t, std::size_t scan_index);
   void updateLastSeen(const ScanView& view, double t);
   void emit(double t, std::size_t scan_index, const TrackedObject& o, ObjectEvent e);
   TrackedObject& object(int id) { return objects_[static_cast<std::size_t>(id - 1)]; }
