@@ -91,8 +91,9 @@ int ObjectTracker::followedTrack(const ShapeEstimate& s) const {
   for (const auto& kv : tracks_) {
     const Track& tr = kv.second;
     if (tr.isStale() || tr.cells.empty()) continue;
-    const double d = std::hypot(tr.shape.cx - s.cx, tr.shape.cy - s.cy);
-    if (d <= 0.5 * tr.shape.size + options_.follow_margin && d < best_d) {
+    const ShapeEstimate& shape = shapeOf(tr);
+    const double d = std::hypot(shape.cx - s.cx, shape.cy - s.cy);
+    if (d <= 0.5 * shape.size + options_.follow_margin && d < best_d) {
       best_d = d;
       best = kv.first;
     }
@@ -184,10 +185,16 @@ void ObjectTracker::refresh(Track& tr, double res) {
     // A fading object keeps the estimate made from the most cells: its last cells are a part.
     if (s.cells < c->best_cells) return;
     c->best_cells = s.cells;
-  } else if (Stale* st = tr.stale()) {
-    st->best_cells = std::max(st->best_cells, s.cells);
+    object(c->id).shape = s;
+    return;
   }
-  tr.shape = s;
+  if (Stale* st = tr.stale()) st->best_cells = std::max(st->best_cells, s.cells);
+  *tr.ownShape() = s;
+}
+
+const ShapeEstimate& ObjectTracker::shapeOf(const Track& tr) const {
+  if (const ShapeEstimate* own = tr.ownShape()) return *own;
+  return objects_[static_cast<std::size_t>(tr.objectId() - 1)].shape;
 }
 
 int ObjectTracker::trackOf(int id) const {
@@ -224,7 +231,7 @@ void ObjectTracker::checkStalePlaces(const ScanView& view, double t, std::size_t
     Track& tr = kv.second;
     Stale* st = tr.stale();
     if (!st) continue;
-    const PlaceView pv = viewOf(view, tr.shape.cx, tr.shape.cy, 0.5 * tr.shape.size, margin);
+    const PlaceView pv = viewOf(view, st->shape.cx, st->shape.cy, 0.5 * st->shape.size, margin);
     st->seen_occupied = pv == PlaceView::SeenOccupied ? st->seen_occupied + 1 : 0;
     // Seen occupied longer than D needs to fade a vacated cell: the object never left.
     if (st->seen_occupied <= options_.confirm_scans + 4) continue;
@@ -245,19 +252,19 @@ void ObjectTracker::revive(Track& place, Track& took, double t, std::size_t scan
   const Stale st = *place.stale();
   const int id = st.object_id;
   const int other = newObject(t);
-  took.confirmed()->id = other;
+  took.confirmed()->id = other;  // its shape moves with it, to its new row
   TrackedObject& o2 = object(other);
-  o2.shape = took.shape;
+  o2.shape = object(id).shape;
   o2.last_seen_t = object(id).last_seen_t;
   o2.history.push_back({t, o2.shape.cx, o2.shape.cy});
   emit(t, scan_index, o2, ObjectEvent::New);
   TrackedObject& o = object(id);
   o.n_moves = std::max(0, o.n_moves - 1);  // the move was not one
-  o.shape = place.shape;
+  o.shape = st.shape;
   o.state = ObjectState::Present;
   o.last_seen_t = t;
   o.history.push_back({t, o.shape.cx, o.shape.cy});
-  place.state = Confirmed{id, place.shape.cx, place.shape.cy, st.best_cells};
+  place.state = Confirmed{id, st.shape.cx, st.shape.cy, st.best_cells};
   emit(t, scan_index, o, ObjectEvent::Reappeared);
 }
 
@@ -272,7 +279,7 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
       continue;
     }
     const Track& tr = it->second;
-    if (!passesFilters(tr, options_)) {
+    if (!passesFilters(tr, tent->shape, options_)) {
       tent->passes = 0;
       pending_.erase(key);
       continue;
@@ -281,8 +288,8 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
     if (tent->passes == 0) tent->first_t = t;
     // Count only scans that left its size as it was: an object is judged once its size has
     // settled (it is all there, and the robot has seen enough of it to tell its size).
-    const bool settled = std::abs(tr.shape.size - tent->last_size) <= options_.settle_size;
-    tent->last_size = tr.shape.size;
+    const bool settled = std::abs(tent->shape.size - tent->last_size) <= options_.settle_size;
+    tent->last_size = tent->shape.size;
     tent->passes = settled ? tent->passes + 1 : 1;
     if (tent->passes >= options_.confirm_scans && confirm(key, view, t, scan_index)) {
       pending_.erase(key);
@@ -326,8 +333,9 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
   const Tentative tent = *tr.tentative();
   std::vector<IdentityCandidate> cands;
   std::vector<int> ids;
-  identityCandidates(tr.shape, tent.exclude_id, view, t, cands, ids);
-  const int pick = chooseIdentity(tr.shape, t, cands, options_);
+  const ShapeEstimate& s = tent.shape;
+  identityCandidates(s, tent.exclude_id, view, t, cands, ids);
+  const int pick = chooseIdentity(s, t, cands, options_);
   ObjectEvent ev = ObjectEvent::New;
   int id = 0;
   if (pick < 0) {
@@ -341,14 +349,14 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
     if (present && t - tent.first_t < options_.defer_s) return false;
     // Its old place was not seen vacated: keep those cells as a stale place to check.
     if (present) leavePlace(id, key);
-    const double dist = std::hypot(o.shape.cx - tr.shape.cx, o.shape.cy - tr.shape.cy);
+    const double dist = std::hypot(o.shape.cx - s.cx, o.shape.cy - s.cy);
     const bool back = !present && dist <= options_.reappear_distance;
     ev = back ? ObjectEvent::Reappeared : ObjectEvent::Moved;
     if (ev == ObjectEvent::Moved) ++o.n_moves;
   }
-  tr.state = Confirmed{id, tr.shape.cx, tr.shape.cy, tr.shape.cells};
+  tr.state = Confirmed{id, s.cx, s.cy, s.cells};
   TrackedObject& o = object(id);
-  o.shape = tr.shape;
+  o.shape = s;
   o.state = ObjectState::Present;
   o.last_seen_t = t;
   o.history.push_back({t, o.shape.cx, o.shape.cy});
@@ -360,7 +368,12 @@ void ObjectTracker::leavePlace(int id, int moved_to) {
   const int old = trackOf(id);
   if (!old) return;
   Track& place = tracks_[old];
-  place.state = Stale{id, moved_to, place.confirmed()->best_cells, 0};
+  Stale st;
+  st.object_id = id;
+  st.moved_to = moved_to;
+  st.shape = object(id).shape;  // the place it left; its row takes where it went
+  st.best_cells = place.confirmed()->best_cells;
+  place.state = st;
 }
 
 void ObjectTracker::checkDrift(double t, std::size_t scan_index) {
@@ -371,11 +384,9 @@ void ObjectTracker::checkDrift(double t, std::size_t scan_index) {
     Confirmed* c = tr.confirmed();
     if (!c || tr.cells.empty()) continue;
     TrackedObject& o = object(c->id);
-    o.shape = tr.shape;
-    if (std::hypot(tr.shape.cx - c->anchor_x, tr.shape.cy - c->anchor_y) >
-        options_.move_distance) {
-      c->anchor_x = tr.shape.cx;
-      c->anchor_y = tr.shape.cy;
+    if (std::hypot(o.shape.cx - c->anchor_x, o.shape.cy - c->anchor_y) > options_.move_distance) {
+      c->anchor_x = o.shape.cx;
+      c->anchor_y = o.shape.cy;
       ++o.n_moves;
       o.history.push_back({t, o.shape.cx, o.shape.cy});
       emit(t, scan_index, o, ObjectEvent::Moved);
@@ -404,7 +415,7 @@ void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& vie
     const CellKey b =
         cellKey(static_cast<int>(std::floor(x / bin)), static_cast<int>(std::floor(y / bin)));
     Track& tr = tracks_[it->second];
-    if (tr.shape.length > options_.max_size) continue;  // a wall: no finer size needed
+    if (shapeOf(tr).length > options_.max_size) continue;  // a wall: no finer size needed
     auto& points = tr.points;
     const bool fresh = points.find(b) == points.end();
     points[b] = {x, y, r * std::abs(view.step), cell};

@@ -46,13 +46,23 @@ ShapeEstimate measureShape(Track& tr, double res, double sensor_x, double sensor
   return s;
 }
 
-bool passesFilters(const Track& tr, const ObjectOptions& options) {
+ShapeEstimate* Track::ownShape() {
+  if (Tentative* t = tentative()) return &t->shape;
+  if (Stale* s = stale()) return &s->shape;
+  return nullptr;
+}
+
+const ShapeEstimate* Track::ownShape() const {
+  return const_cast<Track*>(this)->ownShape();
+}
+
+bool passesFilters(const Track& tr, const ShapeEstimate& shape, const ObjectOptions& options) {
   // A thin row of cells along a wall is the wall seen at a grazing angle (or off by
   // localisation), not an object: no cylinder or person shows a straight row that long.
-  const bool wall_row = tr.hugs_wall && tr.shape.thickness < options.thin_width &&
-                        tr.shape.length >= options.thin_length;
+  const bool wall_row = tr.hugs_wall && shape.thickness < options.thin_width &&
+                        shape.length >= options.thin_length;
   return !wall_row && static_cast<int>(tr.cells.size()) >= options.min_cells &&
-         tr.shape.size >= options.min_size && tr.shape.size <= options.max_size;
+         shape.size >= options.min_size && shape.size <= options.max_size;
 }
 
 }  // namespace dynamap

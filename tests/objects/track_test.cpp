@@ -20,10 +20,19 @@ TEST(Track, EachStateSaysWhichObjectItIsReportedAs) {
   EXPECT_EQ(tr.objectId(), 7);
   EXPECT_EQ(tr.tentative(), nullptr);
   EXPECT_FALSE(tr.isStale());
-  tr.state = Stale{7, 3, 12, 0};
+  EXPECT_EQ(tr.ownShape(), nullptr);  // its object's row holds its shape
+  Stale st;
+  st.object_id = 7;
+  st.shape.size = 0.4;
+  tr.state = st;
   EXPECT_EQ(tr.objectId(), 0);  // a stale place is never reported
   EXPECT_TRUE(tr.isStale());
   EXPECT_EQ(tr.stale()->object_id, 7);
+  ASSERT_NE(tr.ownShape(), nullptr);
+  EXPECT_EQ(tr.ownShape()->size, 0.4);
+  tr.state = Tentative{};
+  ASSERT_NE(tr.ownShape(), nullptr);
+  EXPECT_EQ(tr.ownShape()->size, 0.0);  // a reopened place starts a shape of its own
 }
 
 // A track of the cells a 0.3 m cylinder at (1, 0) shows a sensor at the origin, with the hit
@@ -90,21 +99,22 @@ TEST(PassesFilters, CellsSizeAndAThinRowAlongAWall) {
   const ObjectOptions o;  // min_cells 2, sizes [0.06, 1.2], thin_width 0.02, thin_length 0.15
   Track tr;
   tr.cells = {cellKey(0, 0), cellKey(1, 0), cellKey(2, 0), cellKey(3, 0)};
-  tr.shape.size = 0.3;
-  tr.shape.thickness = 0.0;
-  tr.shape.length = 0.2;
-  EXPECT_TRUE(passesFilters(tr, o));  // a row, but not next to a wall
+  ShapeEstimate s;
+  s.size = 0.3;
+  s.thickness = 0.0;
+  s.length = 0.2;
+  EXPECT_TRUE(passesFilters(tr, s, o));  // a row, but not next to a wall
   tr.hugs_wall = true;
-  EXPECT_FALSE(passesFilters(tr, o));  // a row along a wall: the wall itself
-  tr.shape.thickness = 0.03;
-  EXPECT_TRUE(passesFilters(tr, o));  // thick enough to be something standing there
-  tr.shape.size = 0.05;
-  EXPECT_FALSE(passesFilters(tr, o));  // below min_size
-  tr.shape.size = 1.3;
-  EXPECT_FALSE(passesFilters(tr, o));  // above max_size
-  tr.shape.size = 0.3;
+  EXPECT_FALSE(passesFilters(tr, s, o));  // a row along a wall: the wall itself
+  s.thickness = 0.03;
+  EXPECT_TRUE(passesFilters(tr, s, o));  // thick enough to be something standing there
+  s.size = 0.05;
+  EXPECT_FALSE(passesFilters(tr, s, o));  // below min_size
+  s.size = 1.3;
+  EXPECT_FALSE(passesFilters(tr, s, o));  // above max_size
+  s.size = 0.3;
   tr.cells.resize(1);
-  EXPECT_FALSE(passesFilters(tr, o));  // fewer than min_cells
+  EXPECT_FALSE(passesFilters(tr, s, o));  // fewer than min_cells
 }
 
 }  // namespace

@@ -23,7 +23,9 @@ struct PositionRecord {
 struct TrackedObject {
   int id = 0;           ///< 1, 2, ... in order of first report
   std::string label;    ///< "object<id>"
-  ShapeEstimate shape;  ///< last estimate (kept while absent)
+  /// Its shape: while it is tracked, the live estimate of its track (which holds no copy);
+  /// once absent, the last one.
+  ShapeEstimate shape;
   ObjectState state = ObjectState::Present;
   double first_seen_t = 0, last_seen_t = 0;
   int n_moves = 0;

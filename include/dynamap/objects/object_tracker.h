@@ -72,6 +72,8 @@ class ObjectTracker {
   void emit(double t, std::size_t scan_index, const TrackedObject& o, ObjectEvent e);
   TrackedObject& object(int id) { return objects_[static_cast<std::size_t>(id - 1)]; }
   int trackOf(int id) const;
+  /// A track's shape: its own while tentative or stale, its object's row's once confirmed.
+  const ShapeEstimate& shapeOf(const Track& tr) const;
 
   ObjectOptions options_;
   double resolution_ = 0;

@@ -22,13 +22,15 @@ namespace dynamap {
 /// Not reported yet: it must pass the filters confirm_scans scans in a row with its size
 /// settled.
 struct Tentative {
+  ShapeEstimate shape;   ///< the cluster's shape
   int passes = 0;        ///< consecutive scans passing the filters with a settled size
   double last_size = 0;  ///< [m] size at the last filter pass
   double first_t = 0;    ///< [s] when the current run of passes began
   int exclude_id = 0;    ///< identity must not pick this object (0: none): a stale place re-found
 };
 
-/// Reported: it is object `id` of the table.
+/// Reported: it is object `id` of the table. Its shape is that object's row's
+/// (TrackedObject::shape): the one copy, refreshed from its cells and hit points.
 struct Confirmed {
   int id = 0;
   double anchor_x = 0, anchor_y = 0;  ///< [m] where the last event placed it
@@ -39,6 +41,7 @@ struct Confirmed {
 /// its cells fade (the place was seen free), or is seen occupied and becomes tracked again.
 struct Stale {
   int object_id = 0;
+  ShapeEstimate shape;         ///< the place's shape (the object's row holds where it went)
   int moved_to = 0;            ///< key of the track whose detection took the object's id
   std::size_t best_cells = 0;  ///< as Confirmed's, kept should the place be revived
   int seen_occupied = 0;       ///< consecutive scans that saw the place occupied
@@ -55,7 +58,6 @@ struct HitPoint {
 
 struct Track {
   std::vector<CellKey> cells;  ///< sorted
-  ShapeEstimate shape;
   bool hugs_wall = false;  ///< some cell is near a cell S does not hold free
   /// The latest hit point in each centimetre bin of its cells: the size is fitted to these.
   std::map<CellKey, HitPoint> points;
@@ -66,6 +68,10 @@ struct Track {
   Stale* stale() { return std::get_if<Stale>(&state); }
   const Confirmed* confirmed() const { return std::get_if<Confirmed>(&state); }
   bool isStale() const { return std::holds_alternative<Stale>(state); }
+  /// The shape a tentative or stale track holds; null when confirmed (its object's row holds
+  /// it).
+  ShapeEstimate* ownShape();
+  const ShapeEstimate* ownShape() const;
   /// The object this track is reported as, 0 when tentative or stale.
   int objectId() const { return confirmed() ? confirmed()->id : 0; }
 };
@@ -78,8 +84,8 @@ struct Track {
 ShapeEstimate measureShape(Track& track, double resolution, double sensor_x, double sensor_y,
                            const ObjectOptions& options);
 
-/// Whether a tentative track with this shape counts as a pass towards confirmation: enough
+/// Whether a tentative track of shape `shape` counts as a pass towards confirmation: enough
 /// cells, a size within [min_size, max_size], and not a thin row of cells along a wall.
-bool passesFilters(const Track& track, const ObjectOptions& options);
+bool passesFilters(const Track& track, const ShapeEstimate& shape, const ObjectOptions& options);
 
 }  // namespace dynamap
