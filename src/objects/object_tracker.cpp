@@ -101,16 +101,15 @@ int ObjectTracker::followedTrack(const ShapeEstimate& s) const {
   return best;
 }
 
+bool ObjectTracker::usable(const DynamicGridMap& map, CellKey k) {
+  if (!cells_.count(k)) return false;
+  auto it = noise_memo_.find(k);
+  if (it == noise_memo_.end()) it = noise_memo_.emplace(k, isWallNoise(map, cellOf(k))).first;
+  return !it->second;
+}
+
 void ObjectTracker::recluster(const DynamicGridMap& map, const std::vector<CellKey>& dirty) {
-  const double join_cells = options_.join_distance / resolution_;
-  const auto offsets = joinOffsets(join_cells);
-  std::unordered_map<CellKey, bool> noise;  // wall-noise memo for this scan
-  auto usable = [&](CellKey k) {
-    if (!cells_.count(k)) return false;
-    auto it = noise.find(k);
-    if (it == noise.end()) it = noise.emplace(k, isWallNoise(map, cellOf(k))).first;
-    return !it->second;
-  };
+  noise_memo_.clear();  // S may have changed since the last scan
   // Tracks that lose cells: owners of faded cells.
   std::set<int> touched;
   for (const CellKey k : dirty) {
@@ -120,24 +119,10 @@ void ObjectTracker::recluster(const DynamicGridMap& map, const std::vector<CellK
       owner_.erase(it);
     }
   }
-  // Every cluster within reach of a changed cell (a removed cell may have split its cluster:
-  // each part still has a cell within the join distance of it).
   std::unordered_set<CellKey> visited;
-  std::vector<std::vector<CellXY>> clusters;
-  for (const CellKey k : dirty) {
-    const CellXY c = cellOf(k);
-    for (std::size_t i = 0; i <= offsets.size(); ++i) {
-      const CellKey n = i == offsets.size() ? k : cellKey(c.x + offsets[i].x, c.y + offsets[i].y);
-      if (visited.count(n) || !usable(n)) continue;
-      clusters.push_back(growCluster(n, offsets, usable, visited));
-    }
-  }
-  std::sort(clusters.begin(), clusters.end(), [](const auto& a, const auto& b) {
-    return cellKey(a[0].x, a[0].y) < cellKey(b[0].x, b[0].y);
-  });
   // Each cluster to the track owning most of its cells, or to a track it continues, or new.
   std::map<int, std::vector<CellKey>> gained;
-  for (const auto& cl : clusters) {
+  for (const auto& cl : clustersNear(map, dirty, visited)) {
     for (const CellXY& c : cl) {
       const auto it = owner_.find(cellKey(c.x, c.y));
       if (it != owner_.end()) touched.insert(it->second);
@@ -155,27 +140,55 @@ void ObjectTracker::recluster(const DynamicGridMap& map, const std::vector<CellK
       owner_[g.back()] = key;
     }
   }
-  // Rebuild the touched tracks: kept cells (untouched by this scan's clusters) plus gains.
   for (const int key : touched) {
-    Track& tr = tracks_[key];
-    std::vector<CellKey> cells;
-    for (const CellKey k : tr.cells) {
-      if (visited.count(k) || !cells_.count(k)) continue;
-      const auto it = owner_.find(k);
-      if (it != owner_.end() && it->second == key) cells.push_back(k);
-    }
     const auto g = gained.find(key);
-    if (g != gained.end()) cells.insert(cells.end(), g->second.begin(), g->second.end());
-    std::sort(cells.begin(), cells.end());
-    tr.cells.swap(cells);
-    refresh(tr, resolution_);
-    tr.hugs_wall = false;
-    const double reach = options_.wall_hug_distance + 2 * resolution_;  // noise cells left out
-    for (std::size_t i = 0; i < tr.cells.size() && !tr.hugs_wall && reach > 0; ++i) {
-      tr.hugs_wall = nearNotFree(map, cellOf(tr.cells[i]), reach);
-    }
-    touched_.insert(key);
+    rebuild(map, key, visited, g == gained.end() ? std::vector<CellKey>{} : g->second);
   }
+}
+
+std::vector<std::vector<CellXY>> ObjectTracker::clustersNear(const DynamicGridMap& map,
+                                                             const std::vector<CellKey>& dirty,
+                                                             std::unordered_set<CellKey>& visited) {
+  const auto offsets = joinOffsets(options_.join_distance / resolution_);
+  const auto use = [&](CellKey k) { return usable(map, k); };
+  // Every cluster within reach of a changed cell (a removed cell may have split its cluster:
+  // each part still has a cell within the join distance of it).
+  std::vector<std::vector<CellXY>> clusters;
+  for (const CellKey k : dirty) {
+    const CellXY c = cellOf(k);
+    for (std::size_t i = 0; i <= offsets.size(); ++i) {
+      const CellKey n = i == offsets.size() ? k : cellKey(c.x + offsets[i].x, c.y + offsets[i].y);
+      if (visited.count(n) || !use(n)) continue;
+      clusters.push_back(growCluster(n, offsets, use, visited));
+    }
+  }
+  std::sort(clusters.begin(), clusters.end(), [](const auto& a, const auto& b) {
+    return cellKey(a[0].x, a[0].y) < cellKey(b[0].x, b[0].y);
+  });
+  return clusters;
+}
+
+void ObjectTracker::rebuild(const DynamicGridMap& map, int key,
+                            const std::unordered_set<CellKey>& visited,
+                            const std::vector<CellKey>& gained) {
+  Track& tr = tracks_[key];
+  // Its kept cells (untouched by this scan's clusters) plus its gains.
+  std::vector<CellKey> cells;
+  for (const CellKey k : tr.cells) {
+    if (visited.count(k) || !cells_.count(k)) continue;
+    const auto it = owner_.find(k);
+    if (it != owner_.end() && it->second == key) cells.push_back(k);
+  }
+  cells.insert(cells.end(), gained.begin(), gained.end());
+  std::sort(cells.begin(), cells.end());
+  tr.cells.swap(cells);
+  refresh(tr, resolution_);
+  tr.hugs_wall = false;
+  const double reach = options_.wall_hug_distance + 2 * resolution_;  // noise cells left out
+  for (std::size_t i = 0; i < tr.cells.size() && !tr.hugs_wall && reach > 0; ++i) {
+    tr.hugs_wall = nearNotFree(map, cellOf(tr.cells[i]), reach);
+  }
+  touched_.insert(key);
 }
 
 void ObjectTracker::refresh(Track& tr, double res) {

@@ -125,6 +125,106 @@ void fitCentre(const std::vector<double>& xs, const std::vector<double>& ys, dou
   if (std::isfinite(a) && std::isfinite(b)) c = {a, b, r};
 }
 
+// The box of the first n points.
+struct Extent {
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+};
+Extent extentOf(const std::vector<double>& xs, const std::vector<double>& ys, std::size_t n) {
+  Extent e;
+  for (std::size_t i = 0; i < n; ++i) {
+    e.x0 = std::min(e.x0, xs[i]);
+    e.x1 = std::max(e.x1, xs[i]);
+    e.y0 = std::min(e.y0, ys[i]);
+    e.y1 = std::max(e.y1, ys[i]);
+  }
+  return e;
+}
+
+// The widest distance between the first n points (the visible outline of a convex object is as
+// wide as the object). It joins two corners of their convex hull: O(n log n) for the hull, then
+// pairs of its few corners.
+double widestChord(const std::vector<double>& xs, const std::vector<double>& ys, std::size_t n) {
+  const std::vector<std::size_t> hull = convexHull(xs, ys, n);
+  double width2 = 0;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    for (std::size_t j = i + 1; j < hull.size(); ++j) {
+      const double dx = xs[hull[i]] - xs[hull[j]], dy = ys[hull[i]] - ys[hull[j]];
+      width2 = std::max(width2, dx * dx + dy * dy);
+    }
+  }
+  return std::sqrt(width2);
+}
+
+// Makes `s` the circle of diameter `size` centred on (cx, cy), its box included.
+void setCircle(ShapeEstimate& s, double cx, double cy, double size) {
+  s.circle = true;
+  s.cx = cx;
+  s.cy = cy;
+  s.size = size;
+  s.x_min = cx - 0.5 * size;
+  s.x_max = cx + 0.5 * size;
+  s.y_min = cy - 0.5 * size;
+  s.y_max = cy + 0.5 * size;
+}
+
+// The circle fit of estimateShape's cell centres, into `s` when it is sane.
+bool cellCircle(const std::vector<double>& xs, const std::vector<double>& ys, double width,
+                double res, const ObjectOptions& options, ShapeEstimate& s) {
+  Circle c{};
+  // (No circle for what is wider than any object: a wall.)
+  if (static_cast<int>(xs.size()) < options.min_fit_cells || width > options.max_size ||
+      !fitCircle(xs, ys, c)) {
+    return false;
+  }
+  double d = 2 * c.r;
+  // Sane: as wide as the cells at least (less a cell of quantisation), not much wider than
+  // them (a short arc of a huge circle is a wall, not a cylinder), within max_size.
+  if (!(d >= width - res && d <= 1.6 * (width + res) && d <= options.max_size)) return false;
+  // An arc of grid cells looks flatter than the surface: the fit overshoots, while a convex
+  // object's outline is exactly as wide as the object. Keep the smaller, and centre the circle
+  // of that size on the cells.
+  if (d > width + res) {
+    d = width + res;
+    fitCentre(xs, ys, 0.5 * d, c);
+  }
+  setCircle(s, c.cx, c.cy, d);
+  return true;
+}
+
+// The root mean square distance of the first n points from circle c.
+double circleRms(const std::vector<double>& xs, const std::vector<double>& ys, std::size_t n,
+                 const Circle& c) {
+  double rss = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double ex = xs[i] - c.cx, ey = ys[i] - c.cy;
+    const double e = std::sqrt(ex * ex + ey * ey) - c.r;
+    rss += e * e;
+  }
+  return std::sqrt(rss / static_cast<double>(n));
+}
+
+// The circle fit of estimatePointShape's n hit points (mean (mx, my)), into `s` when sane.
+bool pointCircle(const std::vector<double>& xs, const std::vector<double>& ys, std::size_t n,
+                 double width, double mx, double my, double sensor_x, double sensor_y,
+                 const ObjectOptions& options, ShapeEstimate& s) {
+  Circle c{};
+  if (!fitCircle(xs, ys, c)) return false;
+  const double d = 2 * c.r;
+  const double rms = circleRms(xs, ys, n, c);
+  // Sane: the points span a few centimetres of arc at least, lie on it (range noise of a
+  // centimetre or two), it is no narrower than they are and not far wider (a short flat arc
+  // fits any large circle), and it bulges towards the sensor, as a solid seen from outside
+  // does: its centre lies beyond the points.
+  const bool beyond =
+      std::hypot(c.cx - sensor_x, c.cy - sensor_y) > std::hypot(mx - sensor_x, my - sensor_y);
+  if (!(width >= 0.04 && rms <= 0.02 && d >= width - 0.02 &&
+        d <= std::max(1.5 * width, width + 0.06) && d <= options.max_size && beyond)) {
+    return false;
+  }
+  setCircle(s, c.cx, c.cy, std::max(d, width));
+  return true;
+}
+
 }  // namespace
 
 ShapeEstimate estimateShape(const std::vector<CellXY>& cells, double res,
@@ -135,61 +235,23 @@ ShapeEstimate estimateShape(const std::vector<CellXY>& cells, double res,
   std::vector<double> xs, ys;
   xs.reserve(cells.size());
   ys.reserve(cells.size());
-  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
   for (const CellXY& c : cells) {
     xs.push_back((c.x + 0.5) * res);
     ys.push_back((c.y + 0.5) * res);
-    x0 = std::min(x0, xs.back());
-    x1 = std::max(x1, xs.back());
-    y0 = std::min(y0, ys.back());
-    y1 = std::max(y1, ys.back());
   }
-  // The widest extent: a convex object's visible outline is as wide as the object. It joins
-  // two corners of the cells' convex hull.
-  double width2 = 0;
-  const std::vector<std::size_t> hull = convexHull(xs, ys, xs.size());
-  for (std::size_t i = 0; i < hull.size(); ++i) {
-    for (std::size_t j = i + 1; j < hull.size(); ++j) {
-      const double dx = xs[hull[i]] - xs[hull[j]], dy = ys[hull[i]] - ys[hull[j]];
-      width2 = std::max(width2, dx * dx + dy * dy);
-    }
-  }
-  const double width = std::sqrt(width2);
+  const Extent e = extentOf(xs, ys, xs.size());
+  const double width = widestChord(xs, ys, xs.size());
   s.thickness = minorAxisStd(xs, ys);
   s.length = width;
-  Circle c{};
-  // (No circle for what is wider than any object: a wall.)
-  if (static_cast<int>(cells.size()) >= options.min_fit_cells && width <= options.max_size &&
-      fitCircle(xs, ys, c)) {
-    double d = 2 * c.r;
-    // Sane: as wide as the cells at least (less a cell of quantisation), not much wider than
-    // them (a short arc of a huge circle is a wall, not a cylinder), within max_size.
-    if (d >= width - res && d <= 1.6 * (width + res) && d <= options.max_size) {
-      // An arc of grid cells looks flatter than the surface: the fit overshoots, while a
-      // convex object's outline is exactly as wide as the object. Keep the smaller, and centre
-      // the circle of that size on the cells.
-      if (d > width + res) {
-        d = width + res;
-        fitCentre(xs, ys, 0.5 * d, c);
-      }
-      s.circle = true;
-      s.cx = c.cx;
-      s.cy = c.cy;
-      s.size = d;
-      s.x_min = c.cx - 0.5 * d;
-      s.x_max = c.cx + 0.5 * d;
-      s.y_min = c.cy - 0.5 * d;
-      s.y_max = c.cy + 0.5 * d;
-      return s;
-    }
-  }
+  if (cellCircle(xs, ys, width, res, options, s)) return s;
+  // The widest extent plus a cell (each end cell is covered whole), centred on the cells' box.
   s.size = width + res;
-  s.cx = 0.5 * (x0 + x1);
-  s.cy = 0.5 * (y0 + y1);
-  s.x_min = x0 - 0.5 * res;
-  s.x_max = x1 + 0.5 * res;
-  s.y_min = y0 - 0.5 * res;
-  s.y_max = y1 + 0.5 * res;
+  s.cx = 0.5 * (e.x0 + e.x1);
+  s.cy = 0.5 * (e.y0 + e.y1);
+  s.x_min = e.x0 - 0.5 * res;
+  s.x_max = e.x1 + 0.5 * res;
+  s.y_min = e.y0 - 0.5 * res;
+  s.y_max = e.y1 + 0.5 * res;
   return s;
 }
 
@@ -198,69 +260,26 @@ bool estimatePointShape(const std::vector<double>& xs, const std::vector<double>
                         ShapeEstimate& out) {
   const std::size_t n = std::min(xs.size(), ys.size());
   if (n == 0 || static_cast<int>(n) < options.min_fit_cells) return false;
-  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300, mx = 0, my = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    x0 = std::min(x0, xs[i]);
-    x1 = std::max(x1, xs[i]);
-    y0 = std::min(y0, ys[i]);
-    y1 = std::max(y1, ys[i]);
-    mx += xs[i];
-    my += ys[i];
-  }
+  const Extent e = extentOf(xs, ys, n);
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < n; ++i) mx += xs[i], my += ys[i];
   mx /= static_cast<double>(n);
   my /= static_cast<double>(n);
-  // The widest chord (the visible outline of a convex object) joins two corners of the points'
-  // convex hull: O(n log n) for the hull, then pairs of its few corners.
-  const std::vector<std::size_t> hull = convexHull(xs, ys, n);
-  double width2 = 0;
-  for (std::size_t i = 0; i < hull.size(); ++i) {
-    for (std::size_t j = i + 1; j < hull.size(); ++j) {
-      const double dx = xs[hull[i]] - xs[hull[j]], dy = ys[hull[i]] - ys[hull[j]];
-      width2 = std::max(width2, dx * dx + dy * dy);
-    }
-  }
-  const double width = std::sqrt(width2);
+  const double width = widestChord(xs, ys, n);
   ShapeEstimate s;
   s.cells = n;
   s.length = width;
   s.thickness = minorAxisStd(xs, ys);
-  Circle c{};
-  if (fitCircle(xs, ys, c)) {
-    const double d = 2 * c.r;
-    double rss = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double ex = xs[i] - c.cx, ey = ys[i] - c.cy;
-      const double e = std::sqrt(ex * ex + ey * ey) - c.r;
-      rss += e * e;
-    }
-    const double rms = std::sqrt(rss / static_cast<double>(n));
-    // Sane: the points span a few centimetres of arc at least, lie on it (range noise of a
-    // centimetre or two), it is no narrower than
-    // they are and not far wider (a short flat arc fits any large circle), and it bulges
-    // towards the sensor, as a solid seen from outside does.
-    const bool beyond =
-        std::hypot(c.cx - sensor_x, c.cy - sensor_y) > std::hypot(mx - sensor_x, my - sensor_y);
-    if (width >= 0.04 && rms <= 0.02 && d >= width - 0.02 &&
-        d <= std::max(1.5 * width, width + 0.06) && d <= options.max_size && beyond) {
-      s.circle = true;
-      s.cx = c.cx;
-      s.cy = c.cy;
-      s.size = std::max(d, width);
-      s.x_min = c.cx - 0.5 * s.size;
-      s.x_max = c.cx + 0.5 * s.size;
-      s.y_min = c.cy - 0.5 * s.size;
-      s.y_max = c.cy + 0.5 * s.size;
-      out = s;
-      return true;
-    }
+  if (!pointCircle(xs, ys, n, width, mx, my, sensor_x, sensor_y, options, s)) {
+    // Each edge lies somewhere between the last beam that hit and the first that missed.
+    s.size = width + gap;
+    s.cx = 0.5 * (e.x0 + e.x1);
+    s.cy = 0.5 * (e.y0 + e.y1);
+    s.x_min = std::min(e.x0, s.cx - 0.5 * s.size);
+    s.x_max = std::max(e.x1, s.cx + 0.5 * s.size);
+    s.y_min = std::min(e.y0, s.cy - 0.5 * s.size);
+    s.y_max = std::max(e.y1, s.cy + 0.5 * s.size);
   }
-  s.size = width + gap;
-  s.cx = 0.5 * (x0 + x1);
-  s.cy = 0.5 * (y0 + y1);
-  s.x_min = std::min(x0, s.cx - 0.5 * s.size);
-  s.x_max = std::max(x1, s.cx + 0.5 * s.size);
-  s.y_min = std::min(y0, s.cy - 0.5 * s.size);
-  s.y_max = std::max(y1, s.cy + 0.5 * s.size);
   out = s;
   return true;
 }

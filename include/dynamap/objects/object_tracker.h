@@ -50,27 +50,55 @@ class ObjectTracker {
   std::size_t objectCellCount() const { return cells_.size(); }
 
  private:
+  // The steps of update(), in order.
   void foldChanges(const DynamicGridMap& map, std::vector<CellKey>& dirty);
+  /// Regroups the usable object cells near `dirty` into clusters, hands each to a track
+  /// (owner of most of its cells, else a track it continues, else a new one) and rebuilds
+  /// every track that gained or lost cells.
   void recluster(const DynamicGridMap& map, const std::vector<CellKey>& dirty);
+  void collectPoints(const DynamicGridMap& map, const ScanView& view);
+  void dropLostTracks(double t, std::size_t scan_index);
+  void checkStalePlaces(const ScanView& view, double t, std::size_t scan_index);
+  void confirmTentatives(const ScanView& view, double t, std::size_t scan_index);
+  void checkDrift(double t, std::size_t scan_index);
+  void updateLastSeen(const ScanView& view, double t);
+
+  // Clustering.
+  /// Every cluster of usable cells within the join distance of a dirty cell, sorted by first
+  /// cell; the cells reached go into `visited`.
+  std::vector<std::vector<CellXY>> clustersNear(const DynamicGridMap& map,
+                                                const std::vector<CellKey>& dirty,
+                                                std::unordered_set<CellKey>& visited);
+  /// Track `key` keeps its cells no cluster took (`visited`) and that are still object cells,
+  /// plus `gained`; its shape and hugs_wall follow.
+  void rebuild(const DynamicGridMap& map, int key, const std::unordered_set<CellKey>& visited,
+               const std::vector<CellKey>& gained);
+  /// An object cell that is not wall noise (memoised for one recluster).
+  bool usable(const DynamicGridMap& map, CellKey k);
   bool isWallNoise(const DynamicGridMap& map, CellXY c) const;
   bool nearNotFree(const DynamicGridMap& map, CellXY c, double distance) const;
   int ownerOfMost(const std::vector<CellXY>& cluster) const;
+  /// The non-stale track whose shape a cluster of shape `s` continues, or 0.
   int followedTrack(const ShapeEstimate& s) const;
+  /// Re-measures the track; a confirmed track's estimate goes to its object's row.
   void refresh(Track& tr, double resolution);
-  void collectPoints(const DynamicGridMap& map, const ScanView& view);
-  void dropLostTracks(double t, std::size_t scan_index);
-  void confirmTentatives(const ScanView& view, double t, std::size_t scan_index);
+
+  // Identity and state changes.
+  /// The objects a detection of shape `s` may be, as chooseIdentity sees them, and their ids.
   void identityCandidates(const ShapeEstimate& s, int exclude_id, const ScanView& view, double t,
                           std::vector<IdentityCandidate>& cands, std::vector<int>& ids) const;
+  /// Gives tentative track `key` an identity (new, moved, reappeared); false while waiting
+  /// for an out-of-sight place (defer_s).
   bool confirm(int key, const ScanView& view, double t, std::size_t scan_index);
+  /// Object `id` was found elsewhere (by track `moved_to`): its track becomes a stale place.
   void leavePlace(int id, int moved_to);
-  int newObject(double t);
-  void checkDrift(double t, std::size_t scan_index);
-  void checkStalePlaces(const ScanView& view, double t, std::size_t scan_index);
+  /// Stale `place` was seen occupied while `took` still holds its object's id: `took` becomes
+  /// a new object and `place` its object again.
   void revive(Track& place, Track& took, double t, std::size_t scan_index);
-  void updateLastSeen(const ScanView& view, double t);
+  int newObject(double t);
   void emit(double t, std::size_t scan_index, const TrackedObject& o, ObjectEvent e);
   TrackedObject& object(int id) { return objects_[static_cast<std::size_t>(id - 1)]; }
+  /// The key of the track confirmed as object `id`, or 0.
   int trackOf(int id) const;
   /// A track's shape: its own while tentative or stale, its object's row's once confirmed.
   const ShapeEstimate& shapeOf(const Track& tr) const;
@@ -81,6 +109,7 @@ class ObjectTracker {
   double sensor_x_ = 0, sensor_y_ = 0;      // where the last scan was taken from
   std::unordered_set<CellKey> cells_;       // every D object cell
   std::unordered_map<CellKey, int> owner_;  // cell -> key of its track
+  std::unordered_map<CellKey, bool> noise_memo_;  // cell -> wall noise, for one recluster
   std::map<int, Track> tracks_;             // by key, in creation order
   int next_track_ = 1;
   std::set<int> touched_;  // tracks whose cells changed this scan
