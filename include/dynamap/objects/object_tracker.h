@@ -10,7 +10,9 @@
 // The core steps are free functions over plain data, each in a unit of its own so that it can
 // be tested without a map: clustering.h (cells and clusters), shape.h (circle fit, size
 // estimate), identity.h (identity choice), scan_view.h (visibility of a place in a scan).
-// object_table.h holds the rows and events this class keeps.
+// track.h holds a followed cluster and its state (tentative, confirmed, stale); object_table.h
+// the rows and events this class keeps. A confirmed track holds no shape of its own: its
+// object's row is the one copy, refreshed from the track's cells and hit points.
 
 #include <map>
 #include <set>
@@ -40,7 +42,8 @@ class ObjectTracker {
   void update(const DynamicGridMap& map, const ScanView& view, double t, std::size_t scan_index);
 
   const ObjectOptions& options() const { return options_; }
-  /// Every object ever reported, by id.
+  /// Every object ever reported, by id (objects()[id - 1]); a present object's shape is its
+  /// track's estimate as of the last update.
   const std::vector<TrackedObject>& objects() const { return objects_; }
   /// Every event so far, in order.
   const std::vector<EventRecord>& events() const { return events_; }
