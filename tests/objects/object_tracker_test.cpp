@@ -106,6 +106,26 @@ TEST(ObjectTracker, TwoSimilarSizesKeepTheirIds) {
   EXPECT_EQ(stayed.n_moves, 0);
 }
 
+// An object pushed 1.2 m across the room in 40 scans stays one object, and its row ends where
+// it is: the row's shape is its track's estimate (the one copy), not one left at confirmation.
+TEST(ObjectTracker, AnObjectPushedAcrossTheRoomStaysOneObjectAndItsRowFollowsIt) {
+  TrackerRun run;
+  const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+  run.steps(10, pose, {});
+  run.steps(15, pose, {{1.0, 0.6, 0.4}});
+  ASSERT_EQ(run.tracker.objects().size(), 1u);
+  for (int i = 1; i <= 40; ++i) run.step(pose, {{1.0, 0.6 - 0.03 * i, 0.4}});  // to y = -0.6
+  run.steps(15, pose, {{1.0, -0.6, 0.4}});
+  ASSERT_EQ(run.tracker.objects().size(), 1u);
+  const TrackedObject& o = run.tracker.objects()[0];
+  EXPECT_EQ(o.state, ObjectState::Present);
+  EXPECT_NEAR(o.shape.cx, 1.0, 0.05);
+  EXPECT_NEAR(o.shape.cy, -0.6, 0.05);
+  EXPECT_NEAR(o.shape.size, 0.4, 0.05);
+  EXPECT_EQ(run.events(), (std::vector<ObjectEvent>{ObjectEvent::New, ObjectEvent::Moved}));
+  EXPECT_NEAR(run.tracker.events().back().cy, -0.6, 0.05);
+}
+
 // An object of the same size appearing behind the robot seconds after the first was seen in
 // place is another object: the first cannot have crossed the room unseen (min_unseen_s).
 int objectsAfterATwinAppearsBehind(double min_unseen_s) {
