@@ -1,0 +1,70 @@
+#pragma once
+// ObjectOptions: the object tracker's section [objects] of the configuration.
+
+#include <iosfwd>
+#include <string>
+
+namespace dynamap {
+
+class IniFile;
+
+/// Options of the object tracker (section [objects]). Lengths in metres, counts in scans/cells.
+struct ObjectOptions {
+  static constexpr const char* kSection = "objects";
+
+  bool enabled = true;  ///< track objects at all (false: no object outputs)
+  double join_distance =
+      0.15;  ///< [m] object cells this close (centre to centre) form one cluster; [0.01, 2]
+  int min_cells = 2;       ///< fewer cells than this is not an object; [1, 1000]
+  double min_size = 0.06;  ///< [m] smaller estimated sizes are noise; [0, max_size)
+  double max_size = 1.2;  ///< [m] larger clusters are not objects (walls seen off by localisation);
+                          ///< (min_size, 20]
+  /// a new cluster is reported after passing the filters this many scans in a row with its
+  /// size estimate settled (changing by at most settle_size from scan to scan): an object is
+  /// judged once the robot has seen enough of it to tell its size. 10 scans (2 s at 5 Hz):
+  /// 8 to 15 all meet the bundled scenarios' identity floors, 5 does not; [1, 1000]
+  int confirm_scans = 10;
+  double settle_size = 0.02;  ///< [m] see confirm_scans; [0, 1]
+  /// [m] D cells this close to a cell S does not hold free (wall, unknown) are wall noise:
+  /// grazing beams free the cells along walls, then hits there feed D; [0, 1]
+  double wall_hug_distance = 0.1;
+  double thin_width = 0.02;  ///< [m] clusters thinner than this (std across their axis)...; [0, 1]
+  double thin_length =
+      0.15;  ///< [m] ...and at least this long, next to a wall, are wall noise; [0, 20]
+  /// [m] identity by size: sizes closer than this may be the same object. Sizes fitted to the
+  /// laser's hit points come within 2 cm of the truth, so 6 cm tells objects 10 cm apart in
+  /// size; (0, 5]
+  double size_tolerance = 0.06;
+  double reappear_distance =
+      0.3;  ///< [m] back within this of its last place: reappeared, not moved; (0, 10]
+  double follow_margin =
+      0.2;  ///< [m] a new cluster within an object's radius + this continues it; [0, 5]
+  double move_distance =
+      0.3;  ///< [m] a present object whose centre drifts this far has moved; (0, 10]
+  /// [s] a cluster whose only size match is an object still shown at a place now out of sight
+  /// may wait this long for that place to be seen (free: moved; occupied: a new object). After
+  /// that, or at once with 0, it is taken for that object moved and the old place is kept to be
+  /// checked when next seen (occupied there: that one is another object). With sizes fitted to
+  /// the hit points 0 is right on the bundled scenarios; a wait lets a detection linger as a
+  /// ghost of a place the object has since left; [0, 1e6]
+  double defer_s = 0.0;
+  /// [s] a present object seen at its place less than this long ago (and not seen gone) is no
+  /// candidate for a move made out of sight: it did not cross the room in that time. 10 to 60
+  /// all keep the bundled scenarios' floors; 0 takes any such object for moved; [0, 1e6]
+  double min_unseen_s = 30.0;
+  double match_time_scale = 60.0;  ///< [s] among similar sizes, a vanishing this much older costs
+                                   ///< as much as size_tolerance; > 0
+  double match_distance_scale =
+      10.0;               ///< [m] likewise for the distance from the object's last place; > 0
+  int min_fit_cells = 6;  ///< a circle fit needs this many cells (or hit points), else the
+                          ///< size is their width; [3, 1000]
+
+  /// Strict load of [objects]: unknown keys, malformed or out-of-range values throw ConfigError.
+  void load(const IniFile& ini);
+  /// Throws ConfigError ("<source>: [objects] key: why") for the first rule broken.
+  void validate(const std::string& source) const;
+  /// Writes the section, one key per line with its meaning (reloadable).
+  void writeIni(std::ostream& out) const;
+};
+
+}  // namespace dynamap

@@ -1,0 +1,91 @@
+#pragma once
+// Track: a cluster of object cells the tracker follows from scan to scan, and the state it is
+// in. The state is a variant holding the data of that state only, so a track cannot be, say,
+// confirmed and stale at once, or stale without the object whose place it is.
+//
+//   Tentative --confirm--> Confirmed --its object found elsewhere, move unseen--> Stale
+//   Stale --seen occupied, its object's detection still under its id--> Confirmed (revived)
+//   Stale --seen occupied, its object has moved on since--> Tentative (never that object)
+// A track whose cells all faded ends: a confirmed one's object is then absent.
+
+#include <cstddef>
+#include <map>
+#include <variant>
+#include <vector>
+
+#include "dynamap/objects/clustering.h"
+#include "dynamap/objects/object_options.h"
+#include "dynamap/objects/shape.h"
+
+namespace dynamap {
+
+/// Not reported yet: it must pass the filters confirm_scans scans in a row with its size
+/// settled.
+struct Tentative {
+  ShapeEstimate shape;   ///< the cluster's shape
+  int passes = 0;        ///< consecutive scans passing the filters with a settled size
+  double last_size = 0;  ///< [m] size at the last filter pass
+  double first_t = 0;    ///< [s] when the current run of passes began
+  int exclude_id = 0;    ///< identity must not pick this object (0: none): a stale place re-found
+};
+
+/// Reported: it is object `id` of the table. Its shape is that object's row's
+/// (TrackedObject::shape): the one copy, refreshed from its cells and hit points.
+struct Confirmed {
+  int id = 0;
+  double anchor_x = 0, anchor_y = 0;  ///< [m] where the last event placed it
+  std::size_t best_cells = 0;         ///< most cells seen at this place: the size follows those
+};
+
+/// The cells object `object_id` left when its move was not seen: never reported. It ends when
+/// its cells fade (the place was seen free), or is seen occupied and becomes tracked again.
+struct Stale {
+  int object_id = 0;
+  ShapeEstimate shape;         ///< the place's shape (the object's row holds where it went)
+  int moved_to = 0;            ///< key of the track whose detection took the object's id
+  std::size_t best_cells = 0;  ///< as Confirmed's, kept should the place be revived
+  int seen_occupied = 0;       ///< consecutive scans that saw the place occupied
+};
+
+using TrackState = std::variant<Tentative, Confirmed, Stale>;
+
+/// The latest hit point in one centimetre bin of a track's cells.
+struct HitPoint {
+  double x, y;   ///< [m]
+  double gap;    ///< [m] between its beam and the next at that range
+  CellKey cell;  ///< the object cell it fell in
+};
+
+struct Track {
+  std::vector<CellKey> cells;  ///< sorted
+  bool hugs_wall = false;  ///< some cell is near a cell S does not hold free
+  /// The latest hit point in each centimetre bin of its cells: the size is fitted to these.
+  std::map<CellKey, HitPoint> points;
+  TrackState state;  ///< a new track is tentative
+
+  Tentative* tentative() { return std::get_if<Tentative>(&state); }
+  Confirmed* confirmed() { return std::get_if<Confirmed>(&state); }
+  Stale* stale() { return std::get_if<Stale>(&state); }
+  const Confirmed* confirmed() const { return std::get_if<Confirmed>(&state); }
+  bool isStale() const { return std::holds_alternative<Stale>(state); }
+  /// The shape a tentative or stale track holds; null when confirmed (its object's row holds
+  /// it).
+  ShapeEstimate* ownShape();
+  const ShapeEstimate* ownShape() const;
+  /// The object this track is reported as, 0 when tentative or stale.
+  int objectId() const { return confirmed() ? confirmed()->id : 0; }
+};
+
+/// The shape of the track's cells now (cells of `resolution` m), or, when its hit points allow,
+/// the finer shape fitted to them (estimatePointShape seen from (sensor_x, sensor_y)) with the
+/// cell count, thickness and length of the cells. Drops the hit points whose cell has left the
+/// track, and every one of them when the cells are longer than max_size (a wall: no finer size
+/// needed). At most 200 points, evenly through the bins, are fitted.
+ShapeEstimate measureShape(Track& track, double resolution, double sensor_x, double sensor_y,
+                           const ObjectOptions& options);
+
+/// Whether a tentative track of shape `shape` counts as a pass towards confirmation: enough
+/// cells, a size within [min_size, max_size], and not a thin row of cells along a wall.
+bool passesFilters(const Track& track, const ShapeEstimate& shape, const ObjectOptions& options);
+
+}  // namespace dynamap

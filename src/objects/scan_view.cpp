@@ -1,0 +1,82 @@
+#include "dynamap/objects/scan_view.h"
+
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace dynamap {
+
+namespace {
+
+double wrapAngle(double a) {
+  while (a > M_PI) a -= 2 * M_PI;
+  while (a <= -M_PI) a += 2 * M_PI;
+  return a;
+}
+
+}  // namespace
+
+ScanView makeScanView(const mrpt::obs::CObservation2DRangeScan& scan,
+                      const mrpt::poses::CPose2D& robot, double max_range) {
+  ScanView v;
+  const std::size_t n = scan.getScanSize();
+  if (n == 0) return v;
+  const mrpt::poses::CPose3D sensor3d = mrpt::poses::CPose3D(robot) + scan.sensorPose;
+  const mrpt::poses::CPose2D sensor(sensor3d);
+  const bool upside_down =
+      sensor3d.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>()(2, 2) < 0;
+  v.x = sensor.x();
+  v.y = sensor.y();
+  v.phi = sensor.phi();
+  v.first = n > 1 ? -0.5 * scan.aperture : 0.0;
+  v.step = n > 1 ? scan.aperture / static_cast<double>(n - 1) : 0.0;
+  v.dir = (scan.rightToLeft ^ upside_down) ? 1.0 : -1.0;
+  v.max_range = max_range;
+  v.ranges.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float r = scan.getScanRange(i);
+    const bool ok = scan.getScanRangeValidity(i) && std::isfinite(r) && r >= 0.0f;
+    v.ranges[i] = ok ? std::min(r, static_cast<float>(max_range)) : -1.0f;
+  }
+  return v;
+}
+
+PlaceView viewOf(const ScanView& v, double cx, double cy, double r, double margin) {
+  if (v.empty()) return PlaceView::NotInView;
+  const double dx = cx - v.x, dy = cy - v.y;
+  const double d = std::hypot(dx, dy);
+  if (d <= r || d - r > v.max_range) return PlaceView::NotInView;
+  const double bearing = std::atan2(dy, dx);
+  const double u = v.dir * wrapAngle(bearing - v.phi);
+  const double half = std::asin(std::min(1.0, r / d));
+  const long n = static_cast<long>(v.ranges.size());
+  long lo = 0, hi = 0;
+  if (n > 1) {
+    lo = std::max(0L, static_cast<long>(std::ceil((u - half - v.first) / v.step)));
+    hi = std::min(n - 1, static_cast<long>(std::floor((u + half - v.first) / v.step)));
+  } else if (std::abs(u - v.first) > half) {
+    return PlaceView::NotInView;
+  }
+  int seen_free = 0, seen_occupied = 0;
+  for (long i = lo; i <= hi; ++i) {
+    const double range = v.ranges[static_cast<std::size_t>(i)];
+    if (range < 0) continue;
+    const double off = wrapAngle(v.phi + v.dir * (v.first + v.step * i) - bearing);
+    const double along = d * std::cos(off), perp = d * std::abs(std::sin(off));
+    if (perp > r) continue;
+    const double entry = along - std::sqrt(r * r - perp * perp);
+    if (range < entry - margin) continue;  // hidden behind something nearer
+    if (range <= entry + margin) {
+      ++seen_occupied;
+    } else {
+      ++seen_free;  // the beam went past where the object's surface would be
+    }
+  }
+  if (seen_occupied > 0 && seen_occupied >= seen_free) return PlaceView::SeenOccupied;
+  if (seen_free > 0) return PlaceView::SeenFree;
+  return PlaceView::NotInView;
+}
+
+}  // namespace dynamap

@@ -1,0 +1,68 @@
+#include "dynamap/objects/track.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace dynamap {
+
+namespace {
+constexpr std::size_t kFitPoints = 200;  // points a shape is fitted to, at most
+}  // namespace
+
+ShapeEstimate measureShape(Track& tr, double res, double sensor_x, double sensor_y,
+                           const ObjectOptions& options) {
+  std::vector<CellXY> xy;
+  xy.reserve(tr.cells.size());
+  for (const CellKey k : tr.cells) xy.push_back(cellOf(k));
+  ShapeEstimate s = estimateShape(xy, res, options);
+  // The hit points in its cells, when there are enough, measure it to the centimetre.
+  // A cluster longer than any object (a wall seen off by localisation) needs no finer size.
+  if (s.length > options.max_size) tr.points.clear();
+  for (auto it = tr.points.begin(); it != tr.points.end();) {
+    if (std::binary_search(tr.cells.begin(), tr.cells.end(), it->second.cell)) {
+      ++it;
+    } else {
+      it = tr.points.erase(it);  // its cell left the object: a point of the past
+    }
+  }
+  // At most kFitPoints, evenly through the bins, keep the fit's cost bounded.
+  const std::size_t stride = tr.points.size() / kFitPoints + 1;
+  std::vector<double> px, py;
+  double gap = std::numeric_limits<double>::infinity();  // the nearest view's beam spacing
+  std::size_t i = 0;
+  for (const auto& kv : tr.points) {
+    gap = std::min(gap, kv.second.gap);
+    if (i++ % stride != 0) continue;
+    px.push_back(kv.second.x);
+    py.push_back(kv.second.y);
+  }
+  ShapeEstimate fine;
+  if (estimatePointShape(px, py, gap, sensor_x, sensor_y, options, fine)) {
+    fine.cells = s.cells;  // the filters and the fading rule count cells
+    fine.thickness = s.thickness;
+    fine.length = s.length;
+    s = fine;
+  }
+  return s;
+}
+
+ShapeEstimate* Track::ownShape() {
+  if (Tentative* t = tentative()) return &t->shape;
+  if (Stale* s = stale()) return &s->shape;
+  return nullptr;
+}
+
+const ShapeEstimate* Track::ownShape() const {
+  return const_cast<Track*>(this)->ownShape();
+}
+
+bool passesFilters(const Track& tr, const ShapeEstimate& shape, const ObjectOptions& options) {
+  // A thin row of cells along a wall is the wall seen at a grazing angle (or off by
+  // localisation), not an object: no cylinder or person shows a straight row that long.
+  const bool wall_row = tr.hugs_wall && shape.thickness < options.thin_width &&
+                        shape.length >= options.thin_length;
+  return !wall_row && static_cast<int>(tr.cells.size()) >= options.min_cells &&
+         shape.size >= options.min_size && shape.size <= options.max_size;
+}
+
+}  // namespace dynamap

@@ -1,0 +1,92 @@
+// ScanView: a scan's beams in the map frame (mount included), and what they show of a place.
+
+#include "dynamap/objects/scan_view.h"
+
+#include <gtest/gtest.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <cmath>
+
+#include "../test_util.h"
+
+namespace dynamap {
+namespace {
+
+TEST(MakeScanView, BeamsRangesAndTheMountInTheMapFrame) {
+  // Three beams over 180 degrees: right, ahead, left. One without echo, one past max_range.
+  auto scan = test::makeScan({2.0f, 0.0f, 20.0f}, M_PI);
+  scan->sensorPose = mrpt::poses::CPose3D(0.5, 0.0, 0.0, 0.0, 0.0, 0.0);
+  const ScanView v = makeScanView(*scan, mrpt::poses::CPose2D(1.0, 2.0, M_PI / 2), 10.0);
+  EXPECT_NEAR(v.x, 1.0, 1e-9);  // the mount is 0.5 m ahead of a robot facing +y
+  EXPECT_NEAR(v.y, 2.5, 1e-9);
+  EXPECT_NEAR(v.phi, M_PI / 2, 1e-9);
+  EXPECT_NEAR(v.first, -M_PI / 2, 1e-6);
+  EXPECT_NEAR(v.step, M_PI / 2, 1e-6);
+  EXPECT_EQ(v.dir, 1.0);
+  EXPECT_EQ(v.max_range, 10.0);
+  ASSERT_EQ(v.ranges.size(), 3u);
+  EXPECT_FLOAT_EQ(v.ranges[0], 2.0f);
+  EXPECT_FLOAT_EQ(v.ranges[1], -1.0f);  // invalid: no echo
+  EXPECT_FLOAT_EQ(v.ranges[2], 10.0f);  // cut at max_range
+}
+
+TEST(MakeScanView, AnUpsideDownMountTurnsTheBeamsTheOtherWay) {
+  auto scan = test::makeScan({1.0f, 1.0f}, M_PI);
+  scan->sensorPose = mrpt::poses::CPose3D(0.0, 0.0, 0.0, 0.0, 0.0, M_PI);  // rolled over
+  EXPECT_EQ(makeScanView(*scan, mrpt::poses::CPose2D(), 10.0).dir, -1.0);
+  scan->rightToLeft = false;  // and a scanner turning left to right, rolled over, turns back
+  EXPECT_EQ(makeScanView(*scan, mrpt::poses::CPose2D(), 10.0).dir, 1.0);
+}
+
+TEST(MakeScanView, AnEmptyScanGivesAnEmptyView) {
+  const auto scan = test::makeScan({}, M_PI);
+  EXPECT_TRUE(makeScanView(*scan, mrpt::poses::CPose2D(), 10.0).empty());
+}
+
+// 181 beams, one a degree from -90 to +90, all ending on a wall 5 m away unless set.
+ScanView wallView(double dir) {
+  ScanView v;
+  v.first = -M_PI / 2;
+  v.step = M_PI / 180;
+  v.dir = dir;
+  v.max_range = 10.0;
+  v.ranges.assign(181, 5.0f);
+  return v;
+}
+
+void setBeams(ScanView& v, int from, int to, float range) {
+  for (int i = from; i <= to; ++i) v.ranges[static_cast<std::size_t>(i)] = range;
+}
+
+TEST(ViewOf, BeamsPastThePlaceSeeItFreeBeamsEndingThereSeeItOccupied) {
+  ScanView v = wallView(1.0);
+  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1), PlaceView::SeenFree);
+  setBeams(v, 85, 95, 1.85f);  // a surface 1.8 m ahead, within the margin of the disc's front
+  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1), PlaceView::SeenOccupied);
+  setBeams(v, 80, 100, 1.0f);  // something nearer hides it
+  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1), PlaceView::NotInView);
+  setBeams(v, 80, 100, -1.0f);  // no echo at all there: nothing is known
+  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1), PlaceView::NotInView);
+}
+
+TEST(ViewOf, PlacesOutOfRangeBehindOrAroundTheSensorAreNotInView) {
+  const ScanView v = wallView(1.0);
+  EXPECT_EQ(viewOf(v, -2.0, 0.0, 0.2, 0.1), PlaceView::NotInView);   // behind
+  EXPECT_EQ(viewOf(v, 12.0, 0.0, 0.2, 0.1), PlaceView::NotInView);   // past max_range
+  EXPECT_EQ(viewOf(v, 0.1, 0.0, 0.2, 0.1), PlaceView::NotInView);    // the sensor is inside
+  EXPECT_EQ(viewOf(ScanView(), 2.0, 0.0, 0.2, 0.1), PlaceView::NotInView);  // no scan
+}
+
+TEST(ViewOf, TheBeamDirectionDecidesWhichBeamsLookAtAPlace) {
+  // A place 45 degrees to the left: beam 135 looks at it when beams turn left, beam 45 when
+  // they turn right. Only beams 40 to 50 end at its front.
+  for (const double dir : {1.0, -1.0}) {
+    ScanView v = wallView(dir);
+    setBeams(v, 40, 50, 1.95f);
+    const PlaceView want = dir > 0 ? PlaceView::SeenFree : PlaceView::SeenOccupied;
+    EXPECT_EQ(viewOf(v, 1.5, 1.5, 0.2, 0.1), want) << "dir " << dir;
+  }
+}
+
+}  // namespace
+}  // namespace dynamap
