@@ -21,6 +21,7 @@ int runMap(const Args& args);
 int runSimulate(const Args& args);
 int runImportCarmen(const Args& args);
 int runEval(const Args& args);
+int runConfig(const Args& args);
 
 /// Thrown for a bad command line; main() prints it with a pointer to --help.
 struct UsageError : std::runtime_error {

@@ -24,6 +24,8 @@ const Command kCommands[] = {
      dynamap::app::runImportCarmen},
     {"eval", "score a map result against a scenario's ground truth (paper's Table 3, SA/DA)",
      dynamap::app::runEval},
+    {"config", "print the built-in configuration (an .ini to start from) or its table of keys",
+     dynamap::app::runConfig},
 };
 
 void printHelp(std::ostream& out) {

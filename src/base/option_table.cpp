@@ -19,6 +19,19 @@ std::string Range::text() const {
   return o.str();
 }
 
+std::string optionsMarkdown(const std::vector<OptionDoc>& docs) {
+  std::ostringstream o;
+  o << "| section | key | default | range | meaning |\n|---|---|---|---|---|\n";
+  std::string section;
+  for (const OptionDoc& d : docs) {
+    o << "| " << (d.section == section ? std::string() : "`[" + d.section + "]`") << " | `" << d.key
+      << "` | " << d.default_value << (d.unit.empty() ? "" : " " + d.unit) << " | " << d.range
+      << " | " << d.meaning << " |\n";
+    section = d.section;
+  }
+  return o.str();
+}
+
 namespace option_detail {
 
 std::string formatNumber(double v) {

@@ -1,6 +1,5 @@
 #include "dynamap/objects/scan_view.h"
 
-#include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <algorithm>
@@ -18,27 +17,23 @@ double wrapAngle(double a) {
 
 }  // namespace
 
-ScanView makeScanView(const mrpt::obs::CObservation2DRangeScan& scan,
-                      const mrpt::poses::CPose2D& robot, double max_range) {
+ScanView makeScanView(const RangeData& rd, const mrpt::poses::CPose2D& robot) {
   ScanView v;
-  const std::size_t n = scan.getScanSize();
+  const std::size_t n = rd.size();
   if (n == 0) return v;
-  const mrpt::poses::CPose3D sensor3d = mrpt::poses::CPose3D(robot) + scan.sensorPose;
-  const mrpt::poses::CPose2D sensor(sensor3d);
-  const bool upside_down =
-      sensor3d.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>()(2, 2) < 0;
+  const mrpt::poses::CPose2D sensor = rd.sensorIn(mrpt::poses::CPose3D(robot));
   v.x = sensor.x();
   v.y = sensor.y();
   v.phi = sensor.phi();
-  v.first = n > 1 ? -0.5 * scan.aperture : 0.0;
-  v.step = n > 1 ? scan.aperture / static_cast<double>(n - 1) : 0.0;
-  v.dir = (scan.rightToLeft ^ upside_down) ? 1.0 : -1.0;
-  v.max_range = max_range;
+  v.first = rd.first;
+  v.step = rd.step;
+  v.dir = rd.dir;
+  v.max_range = rd.insertion_range;
   v.ranges.resize(n);
+  const float cut = static_cast<float>(rd.insertion_range);
   for (std::size_t i = 0; i < n; ++i) {
-    const float r = scan.getScanRange(i);
-    const bool ok = scan.getScanRangeValidity(i) && std::isfinite(r) && r >= 0.0f;
-    v.ranges[i] = ok ? std::min(r, static_cast<float>(max_range)) : -1.0f;
+    const bool echo = rd.kinds[i] == BeamKind::Hit || rd.kinds[i] == BeamKind::Beyond;
+    v.ranges[i] = echo ? std::min(rd.ranges[i], cut) : -1.0f;
   }
   return v;
 }

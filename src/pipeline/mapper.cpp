@@ -47,9 +47,10 @@ std::vector<OptionDoc> MapConfig::describe() {
   const MapConfig defaults;
   std::vector<OptionDoc> docs = {{"input", "poses", toString(defaults.poses), "",
                                   "where each scan's robot pose comes from",
-                                  "auto | simplemap | ground_truth | odometry | scan_matching"}};
+                                  "auto, simplemap, ground_truth, odometry, scan_matching"}};
   for (auto&& more : {DynamicMapOptions::table().describe(defaults.map),
                       InsertionOptions::table().describe(defaults.insertion),
+                      ObjectOptions::table().describe(defaults.objects),
                       ScanMatchOptions::table().describe(defaults.scan_matching)}) {
     docs.insert(docs.end(), more.begin(), more.end());
   }
@@ -121,9 +122,7 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   result.inserted = true;
   ++counts_.scans_used;
   // 4. Objects, from the D cells this scan changed and the scan's view of known places.
-  tracker_.update(map_,
-                  makeScanView(*rec.scan, result.pose, config_.insertion.max_distance_insertion),
-                  rec.t, rec.index);
+  tracker_.update(map_, makeScanView(rd, result.pose), rec.t, rec.index);
   result.object_events = tracker_.eventsOfLastUpdate();
   path_.add(result.pose.x(), result.pose.y());  // 5. the path the pictures draw
   return result;

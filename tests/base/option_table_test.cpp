@@ -86,7 +86,7 @@ TEST(OptionTable, DescribesEveryRowWithItsDefault) {
   EXPECT_EQ(docs[0].default_value, "1.5");
   EXPECT_EQ(docs[0].range, "(0, 10]");
   EXPECT_EQ(docs[2].default_value, "true");
-  EXPECT_EQ(docs[2].range, "true | false");
+  EXPECT_EQ(docs[2].range, "true or false");
 }
 
 TEST(Range, EndsOpenOrClosed) {

@@ -7,7 +7,6 @@
 namespace dynamap {
 namespace {
 
-
 ShapeEstimate detection(double x, double y, double size) {
   ShapeEstimate s;
   s.cx = x;

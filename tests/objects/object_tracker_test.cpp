@@ -47,7 +47,8 @@ struct TrackerRun {
   void step(const mrpt::poses::CPose2D& pose, const std::vector<Cylinder>& cylinders) {
     const auto scan = roomScan(pose, cylinders);
     map.insertObservation(*scan, mrpt::poses::CPose3D(pose));
-    tracker.update(map, makeScanView(*scan, pose, 15.0), 0.2 * index, index);
+    tracker.update(map, makeScanView(makeRangeData(*scan, 15.0, 0.05 * M_PI / 180.0), pose),
+                   0.2 * index, index);
     ++index;
   }
   std::vector<ObjectEvent> events() const {

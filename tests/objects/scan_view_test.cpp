@@ -16,7 +16,8 @@ TEST(MakeScanView, BeamsRangesAndTheMountInTheMapFrame) {
   // Three beams over 180 degrees: right, ahead, left. One without echo, one past max_range.
   auto scan = test::makeScan({2.0f, 0.0f, 20.0f}, M_PI);
   scan->sensorPose = mrpt::poses::CPose3D(0.5, 0.0, 0.0, 0.0, 0.0, 0.0);
-  const ScanView v = makeScanView(*scan, mrpt::poses::CPose2D(1.0, 2.0, M_PI / 2), 10.0);
+  const ScanView v = makeScanView(makeRangeData(*scan, 10.0, 0.05 * M_PI / 180.0),
+                                  mrpt::poses::CPose2D(1.0, 2.0, M_PI / 2));
   EXPECT_NEAR(v.x, 1.0, 1e-9);  // the mount is 0.5 m ahead of a robot facing +y
   EXPECT_NEAR(v.y, 2.5, 1e-9);
   EXPECT_NEAR(v.phi, M_PI / 2, 1e-9);
@@ -33,14 +34,19 @@ TEST(MakeScanView, BeamsRangesAndTheMountInTheMapFrame) {
 TEST(MakeScanView, AnUpsideDownMountTurnsTheBeamsTheOtherWay) {
   auto scan = test::makeScan({1.0f, 1.0f}, M_PI);
   scan->sensorPose = mrpt::poses::CPose3D(0.0, 0.0, 0.0, 0.0, 0.0, M_PI);  // rolled over
-  EXPECT_EQ(makeScanView(*scan, mrpt::poses::CPose2D(), 10.0).dir, -1.0);
+  EXPECT_EQ(
+      makeScanView(makeRangeData(*scan, 10.0, 0.05 * M_PI / 180.0), mrpt::poses::CPose2D()).dir,
+      -1.0);
   scan->rightToLeft = false;  // and a scanner turning left to right, rolled over, turns back
-  EXPECT_EQ(makeScanView(*scan, mrpt::poses::CPose2D(), 10.0).dir, 1.0);
+  EXPECT_EQ(
+      makeScanView(makeRangeData(*scan, 10.0, 0.05 * M_PI / 180.0), mrpt::poses::CPose2D()).dir,
+      1.0);
 }
 
 TEST(MakeScanView, AnEmptyScanGivesAnEmptyView) {
   const auto scan = test::makeScan({}, M_PI);
-  EXPECT_TRUE(makeScanView(*scan, mrpt::poses::CPose2D(), 10.0).empty());
+  EXPECT_TRUE(makeScanView(makeRangeData(*scan, 10.0, 0.05 * M_PI / 180.0), mrpt::poses::CPose2D())
+                  .empty());
 }
 
 // 181 beams, one a degree from -90 to +90, all ending on a wall 5 m away unless set.
@@ -71,9 +77,9 @@ TEST(ViewOf, BeamsPastThePlaceSeeItFreeBeamsEndingThereSeeItOccupied) {
 
 TEST(ViewOf, PlacesOutOfRangeBehindOrAroundTheSensorAreNotInView) {
   const ScanView v = wallView(1.0);
-  EXPECT_EQ(viewOf(v, -2.0, 0.0, 0.2, 0.1), PlaceView::NotInView);   // behind
-  EXPECT_EQ(viewOf(v, 12.0, 0.0, 0.2, 0.1), PlaceView::NotInView);   // past max_range
-  EXPECT_EQ(viewOf(v, 0.1, 0.0, 0.2, 0.1), PlaceView::NotInView);    // the sensor is inside
+  EXPECT_EQ(viewOf(v, -2.0, 0.0, 0.2, 0.1), PlaceView::NotInView);          // behind
+  EXPECT_EQ(viewOf(v, 12.0, 0.0, 0.2, 0.1), PlaceView::NotInView);          // past max_range
+  EXPECT_EQ(viewOf(v, 0.1, 0.0, 0.2, 0.1), PlaceView::NotInView);           // the sensor is inside
   EXPECT_EQ(viewOf(ScanView(), 2.0, 0.0, 0.2, 0.1), PlaceView::NotInView);  // no scan
 }
 

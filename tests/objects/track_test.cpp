@@ -44,11 +44,11 @@ Track cylinderTrack() {
     const double along = d * std::cos(a), perp = d * std::sin(a);
     const double range = along - std::sqrt(r * r - perp * perp);
     const double x = range * std::cos(a), y = range * std::sin(a);
-    const CellKey cell = cellKey(static_cast<int>(std::floor(x / kRes)),
-                                 static_cast<int>(std::floor(y / kRes)));
+    const CellKey cell =
+        cellKey(static_cast<int>(std::floor(x / kRes)), static_cast<int>(std::floor(y / kRes)));
     tr.cells.push_back(cell);
-    const CellKey bin = cellKey(static_cast<int>(std::floor(x / 0.01)),
-                                static_cast<int>(std::floor(y / 0.01)));
+    const CellKey bin =
+        cellKey(static_cast<int>(std::floor(x / 0.01)), static_cast<int>(std::floor(y / 0.01)));
     tr.points[bin] = {x, y, range * M_PI / 180, cell};
   }
   std::sort(tr.cells.begin(), tr.cells.end());

@@ -29,7 +29,8 @@ TEST(MapConfig, DefaultIniHoldsExactlyTheDeclaredDefaults) {
   std::map<std::string, std::set<std::string>> declared;
   for (const OptionDoc& d : MapConfig::describe()) {
     declared[d.section].insert(d.key);
-    ASSERT_TRUE(ini.hasKey(d.section, d.key)) << "default.ini lacks [" << d.section << "] " << d.key;
+    ASSERT_TRUE(ini.hasKey(d.section, d.key))
+        << "default.ini lacks [" << d.section << "] " << d.key;
     const std::string shipped = ini.getString(d.section, d.key, "");
     double a = 0, b = 0;
     if (parseDouble(shipped, a) && parseDouble(d.default_value, b)) {
@@ -40,18 +41,20 @@ TEST(MapConfig, DefaultIniHoldsExactlyTheDeclaredDefaults) {
   }
   // ... and nothing else: a key dropped from a table but left in the file fails here.
   for (const std::string& section : ini.sections()) {
-    if (section == "objects") continue;  // TODO(objects table): remove when [objects] is a table
     for (const std::string& key : ini.keys(section)) {
       EXPECT_TRUE(declared[section].count(key)) << "[" << section << "] " << key << " undeclared";
     }
   }
 }
 
-TEST(MapConfig, ReadmeDocumentsEveryKey) {
+TEST(MapConfig, ReadmeHoldsTheTableOfEveryKeyAsTheTablesDeclareThem) {
   const std::string readme = readFile(DYNAMAP_SOURCE_DIR "/README.md");
+  const std::string table = optionsMarkdown(MapConfig::describe());
+  EXPECT_NE(readme.find(table), std::string::npos)
+      << "README's table of keys is not `dynamap config --markdown`'s:\n"
+      << table;
   for (const OptionDoc& d : MapConfig::describe()) {
-    EXPECT_NE(readme.find("`" + d.key + "`"), std::string::npos)
-        << "README does not document [" << d.section << "] " << d.key;
+    EXPECT_NE(table.find("`" + d.key + "`"), std::string::npos) << d.key;
   }
 }
 
@@ -65,10 +68,10 @@ void expectRoundTrip(const OptionTable<T>& table) {
     const double hi = std::isfinite(r.range.hi) ? r.range.hi : 1e3;
     if (auto d = std::get_if<double T::*>(&r.member)) {
       const double v = lo + 0.3 * (hi - lo);
-      changed.**d = v == changed.**d ? lo + 0.7 * (hi - lo) : v;
+      changed.** d = v == changed.**d ? lo + 0.7 * (hi - lo) : v;
     } else if (auto i = std::get_if<int T::*>(&r.member)) {
       const int v = static_cast<int>(std::ceil(lo));
-      changed.**i = v == changed.**i ? static_cast<int>(std::floor(hi)) : v;
+      changed.** i = v == changed.**i ? static_cast<int>(std::floor(hi)) : v;
     } else {
       changed.*std::get<bool T::*>(r.member) = !(changed.*std::get<bool T::*>(r.member));
     }
@@ -88,6 +91,7 @@ void expectRoundTrip(const OptionTable<T>& table) {
 TEST(MapConfig, EverySectionRoundTripsThroughItsWrittenForm) {
   expectRoundTrip(DynamicMapOptions::table());
   expectRoundTrip(InsertionOptions::table());
+  expectRoundTrip(ObjectOptions::table());
   expectRoundTrip(ScanMatchOptions::table());
 }
 

@@ -116,7 +116,7 @@ TEST(RangeData, GridMatcherAndTrackerAgreeForEveryMount) {
     EXPECT_LT(std::hypot(r.pose.x() - robot.x(), r.pose.y() - robot.y()), 0.02);
     EXPECT_LT(std::abs(mrpt::math::wrapToPi(r.pose.phi() - robot.phi())), 0.5 * kDeg);
     // The tracker's view: a beam's end point is seen occupied, its middle seen free.
-    const ScanView view = makeScanView(*scan, robot, kRange);
+    const ScanView view = makeScanView(rd, robot);
     for (int i = 10; i < kBeams; i += 37) {
       if (scan->getScanRange(i) <= 0) continue;
       const Ray ray = worldRay(robot, m.pose, i);

@@ -77,6 +77,10 @@ class OptionTable {
   std::vector<Option<T>> rows_;
 };
 
+/// The rows as a Markdown table (section, key, default, range, unit, meaning): the README's
+/// table of configuration keys is this text, checked by a test.
+std::string optionsMarkdown(const std::vector<OptionDoc>& docs);
+
 // --- implementation (the table is a template over the options struct) --------------------------
 
 namespace option_detail {
@@ -157,7 +161,7 @@ std::vector<OptionDoc> OptionTable<T>::describe(const T& defaults) const {
       d.default_value = std::to_string(defaults.**i);
     } else {
       d.default_value = defaults.*std::get<bool T::*>(r.member) ? "true" : "false";
-      d.range = "true | false";
+      d.range = "true or false";
     }
     docs.push_back(std::move(d));
   }

@@ -7,6 +7,8 @@
 namespace dynamap {
 
 class IniFile;
+template <typename T>
+class OptionTable;
 
 /// Options of the object tracker (section [objects]). Lengths in metres, counts in scans/cells.
 struct ObjectOptions {
@@ -59,6 +61,8 @@ struct ObjectOptions {
   int min_fit_cells = 6;  ///< a circle fit needs this many cells (or hit points), else the
                           ///< size is their width; [3, 1000]
 
+  /// Every key of [objects]: name, member, range, unit, meaning (see OptionTable).
+  static const OptionTable<ObjectOptions>& table();
   /// Strict load of [objects]: unknown keys, malformed or out-of-range values throw ConfigError.
   void load(const IniFile& ini);
   /// Throws ConfigError ("<source>: [objects] key: why") for the first rule broken.

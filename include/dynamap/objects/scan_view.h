@@ -6,6 +6,8 @@
 
 #include <vector>
 
+#include "dynamap/base/range_data.h"
+
 namespace dynamap {
 
 /// What one scan tells about a round place.
@@ -20,9 +22,9 @@ struct ScanView {
   std::vector<float> ranges;  ///< < 0: no echo
   bool empty() const { return ranges.empty(); }
 };
-/// The view of a scan taken from `robot` (sensor pose from the scan itself); `max_range` cuts.
-ScanView makeScanView(const mrpt::obs::CObservation2DRangeScan& scan,
-                      const mrpt::poses::CPose2D& robot, double max_range);
+/// The view of the scan `rd` taken with the robot at `robot`: the same beam directions the grid
+/// inserted, ranges cut at the insertion range, beams without an echo (or bad) < 0.
+ScanView makeScanView(const RangeData& rd, const mrpt::poses::CPose2D& robot);
 /// Whether the scan's beams crossed the disc (cx, cy, r) (SeenFree), ended in it
 /// (SeenOccupied), or never reached it (NotInView: out of range, out of the field of view, or
 /// hidden behind something nearer). `margin` [m] tolerates range noise and cell size.
