@@ -19,11 +19,13 @@
 #                and raw odometry on corridors_odom (installs mrpt-apps), and the SENA log maps
 
 # Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
-# keep the install well below the whole libmrpt-dev metapackage.
+# keep the install well below the whole libmrpt-dev metapackage; mrpt-common brings MRPT's own
+# example logs, which the tests read (Malaga's simplemap).
 DEB_PACKAGES := cmake g++ make \
   libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
   libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
-  libeigen3-dev libboost-program-options-dev libgtest-dev
+  libeigen3-dev libboost-program-options-dev libgtest-dev \
+  mrpt-common
 
 BUILD_DIR ?= build
 BUILD_TYPE ?= Release
@@ -32,8 +34,9 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DYNAMAP := $(BUILD_DIR)/dynamap
 DEMO_INPUT ?= rawlogs/people/people.rawlog
 DEMO_OUT ?= out/people
-# Real logs live beside the repository when they are there (never committed).
-DATASETS ?= ../shared/datasets
+# Real logs (never committed): the Radish CARMEN logs under $(DATASETS)/carmen/ when present,
+# e.g. make bench DATASETS=/data/logs.
+DATASETS ?= datasets
 FREIBURG := $(DATASETS)/carmen/freiburg-079-corrected.log.gz
 BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corridors.rawlog)
 
@@ -148,7 +151,7 @@ bench-long: build
 # scan matching and with raw odometry, and MRPT's icp-slam (config/icp_slam.ini, adapted from
 # MRPT's demo), each scored by `dynamap eval --trajectory` (absolute trajectory error). Then
 # MRPT's odometry-only SENA log mapped with odometry and with scan matching. Installs mrpt-apps
-# (icp-slam) and mrpt-common (the SENA log) when missing; `make test` needs neither.
+# (icp-slam) when missing; `make test` does not need it.
 COMPARE_SCENARIO := corridors_odom
 COMPARE_OUT := out/compare# also logOutput_dir in config/icp_slam.ini
 SENA_LOG := /usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog

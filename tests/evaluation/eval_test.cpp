@@ -380,7 +380,21 @@ TEST(EvalCommand, TinyScenarioWritesMetricsAndReport) {
 
   // --summary reads it back.
   ASSERT_EQ(test::run(std::string(DYNAMAP_EXE) + " eval --summary " + out, &output), 0) << output;
-  EXPECT_NE(output.find("sim arena"), std::string::npos) << output;
+  // Each row of the summary carries the result's own figures: the row "correctly detected"
+  // ends with this result's value from metrics.json (the paper's columns come first).
+  const std::string key = "\"correctly_detected\": ";
+  const auto at = metrics.find(key);
+  ASSERT_NE(at, std::string::npos) << metrics;
+  const std::string value = metrics.substr(at + key.size(), metrics.find_first_of(",\n", at) -
+                                                                 at - key.size());
+  std::istringstream lines(output);
+  std::string row;
+  for (std::string l; std::getline(lines, l);) {
+    if (l.rfind("correctly detected", 0) == 0) row = l;
+  }
+  ASSERT_FALSE(row.empty()) << output;
+  const std::string ours = row.substr(row.find('|') + 1);
+  EXPECT_EQ(std::stoi(ours), std::stoi(value)) << row;
 }
 
 /// A tracks.csv of a perfect tracker: every object seen by a beam, under its own number.

@@ -6,7 +6,9 @@
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <gtest/gtest.h>
@@ -135,6 +137,33 @@ TEST(ScanSource, ActionSensoryFrameRawlogMayStartWithAFrame) {
   ASSERT_EQ(recs.size(), 3u);
   EXPECT_NEAR(recs[0].pose.x(), 0.0, 1e-9);
   EXPECT_NEAR(recs[2].pose.x(), (tenSteps()[2].pose - tenSteps()[0].pose).x(), 1e-6);
+}
+
+TEST(ScanSource, ASimplemapGivesEachKeyframesScansAtItsPose) {
+  const std::string dir = test::tempDir("simplemap");
+  mrpt::maps::CSimpleMap sm;
+  for (int k = 0; k < 3; ++k) {
+    auto sf = mrpt::obs::CSensoryFrame::Create();
+    sf->insert(test::makeScan({1.0f, 2.0f, 3.0f}, M_PI / 2, 10.0 + k));
+    auto pose = mrpt::poses::CPose3DPDFGaussian::Create();
+    pose->mean = mrpt::poses::CPose3D(0.5 * k, -0.25 * k, 0, 0.1 * k, 0, 0);
+    sm.insert(pose, sf);
+  }
+  ASSERT_TRUE(sm.saveToFile(dir + "/three.simplemap"));
+  auto src = openScanSource(dir + "/three.simplemap", PoseSource::Auto);
+  EXPECT_EQ(src->poseSource(), PoseSource::Simplemap);
+  const std::vector<ScanRecord> recs = readAll(*src);
+  ASSERT_EQ(recs.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_DOUBLE_EQ(recs[k].pose.x(), 0.5 * k);
+    EXPECT_DOUBLE_EQ(recs[k].pose.y(), -0.25 * k);
+    EXPECT_NEAR(recs[k].pose.phi(), 0.1 * k, 1e-12);
+    EXPECT_NEAR(recs[k].t, 10.0 + k, 1e-6);
+    EXPECT_EQ(recs[k].scan->getScanSize(), 3u);
+  }
+  EXPECT_NE(inputError([&] { openScanSource(dir + "/three.simplemap", PoseSource::Odometry); })
+                .find("simplemap"),
+            std::string::npos);
 }
 
 TEST(ScanSource, SimplemapOfMrptsExamples) {

@@ -7,7 +7,7 @@
 // log-odds of being FREE (16 units per nat): a larger cell value means "more likely free".
 //
 // One pass over each 2D scan updates both layers with the inverse sensor model conditioned on
-// the cell's static state before the scan (DESIGN.md's table): hits are applied first, then the
+// the cell's static state before the scan (docs/design.md, "The method"): hits are applied first, then the
 // free space, and every cell is updated at most once per scan, so a hit in a cell beats a miss
 // in the same cell.
 //
