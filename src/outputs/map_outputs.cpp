@@ -35,7 +35,14 @@ void writeFileAtomically(const std::string& dir, const std::string& name,
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write");
-    write(out);
+    try {
+      write(out);
+    } catch (...) {  // a writer that fails leaves no temporary behind
+      out.close();
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw;
+    }
     out.flush();
     if (!out) {
       std::error_code ec;

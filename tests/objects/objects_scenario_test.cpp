@@ -179,6 +179,14 @@ const Figures& scenario(const std::string& name) {
 }
 
 // Met today: every move is reported at its target, and the arena has no false object.
+// The bundled truth itself: an empty or cut moves.csv must not make the floors pass.
+TEST(ObjectsScenario, TheBundledTruthHoldsEveryMove) {
+  EXPECT_EQ(scenario("arena").moves, 20u);
+  EXPECT_EQ(scenario("arena").objects_moved, 6u);
+  EXPECT_EQ(scenario("corridors").moves, 20u);
+  EXPECT_EQ(scenario("people").moves, 5u);
+}
+
 TEST(ObjectsScenario, ArenaEveryMoveFoundAndNoFalseObject) {
   const Figures& f = scenario("arena");
   EXPECT_EQ(f.found, f.moves);

@@ -1,0 +1,74 @@
+// PoseTrack: poses looked up by time — interpolation, the heading's wrap, gaps and the ends.
+
+#include "dynamap/base/pose_track.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace dynamap {
+namespace {
+
+using mrpt::poses::CPose2D;
+using Lookup = PoseTrack::Lookup;
+
+TEST(PoseTrack, InterpolatesPositionAndHeadingBetweenTheSamplesAround) {
+  PoseTrack track;
+  track.add(10.0, CPose2D(0, 0, 0.1));
+  track.add(11.0, CPose2D(2, -4, 0.5));
+  CPose2D p;
+  ASSERT_EQ(track.at(10.25, p, false), Lookup::kFound);
+  EXPECT_DOUBLE_EQ(p.x(), 0.5);
+  EXPECT_DOUBLE_EQ(p.y(), -1.0);
+  EXPECT_NEAR(p.phi(), 0.2, 1e-12);
+  ASSERT_EQ(track.at(11.0, p, false), Lookup::kFound);  // a sample's own time: the sample
+  EXPECT_DOUBLE_EQ(p.x(), 2.0);
+}
+
+TEST(PoseTrack, TheHeadingTurnsTheShortWayAcrossPi) {
+  PoseTrack track;
+  track.add(0.0, CPose2D(0, 0, M_PI - 0.1));
+  track.add(1.0, CPose2D(0, 0, -M_PI + 0.1));
+  CPose2D p;
+  ASSERT_EQ(track.at(0.5, p, false), Lookup::kFound);
+  EXPECT_NEAR(std::abs(p.phi()), M_PI, 1e-9);  // through pi, not through 0
+  ASSERT_EQ(track.at(0.75, p, false), Lookup::kFound);
+  EXPECT_NEAR(p.phi(), -M_PI + 0.05, 1e-9);
+}
+
+TEST(PoseTrack, NoPoseAcrossAGapWiderThanTheLimit) {
+  PoseTrack track;
+  track.add(0.0, CPose2D(0, 0, 0));
+  track.add(PoseTrack::kMaxGap + 0.5, CPose2D(1, 0, 0));
+  CPose2D p;
+  EXPECT_EQ(track.at(1.0, p, false), Lookup::kMissing);
+}
+
+TEST(PoseTrack, TheEndsTakeTheNearestSampleOnlyWithinTheirTolerance) {
+  PoseTrack track;
+  track.add(5.0, CPose2D(1, 2, 0));
+  CPose2D p;
+  EXPECT_EQ(track.at(5.05, p, false), Lookup::kLater);  // a later sample may still come
+  ASSERT_EQ(track.at(5.05, p, true), Lookup::kFound);   // none will: the last one
+  EXPECT_DOUBLE_EQ(p.x(), 1.0);
+  EXPECT_EQ(track.at(5.0 + PoseTrack::kEndTolerance + 0.05, p, true), Lookup::kMissing);
+  ASSERT_EQ(track.at(4.95, p, false), Lookup::kFound);  // just before the first
+  EXPECT_EQ(track.at(5.0 - PoseTrack::kEndTolerance - 0.05, p, false), Lookup::kMissing);
+}
+
+TEST(PoseTrack, LateSamplesAreSortedInAndOldOnesForgotten) {
+  PoseTrack track;
+  track.add(0.0, CPose2D(0, 0, 0));
+  track.add(2.0, CPose2D(2, 0, 0));
+  track.add(1.0, CPose2D(10, 0, 0));  // out of order: inserted in its place
+  CPose2D p;
+  ASSERT_EQ(track.at(0.5, p, false), Lookup::kFound);
+  EXPECT_DOUBLE_EQ(p.x(), 5.0);
+  track.forgetBefore(1.5);  // keeps the last sample at or before 1.5
+  EXPECT_EQ(track.size(), 2u);
+  ASSERT_EQ(track.at(1.5, p, false), Lookup::kFound);
+  EXPECT_DOUBLE_EQ(p.x(), 6.0);
+}
+
+}  // namespace
+}  // namespace dynamap

@@ -1,0 +1,71 @@
+// Pictures of the maps: north up, one pixel per cell, the grey and red levels of S and D.
+
+#include "dynamap/outputs/render.h"
+
+#include <gtest/gtest.h>
+
+#include "../test_util.h"
+
+namespace dynamap {
+namespace {
+
+using mrpt::poses::CPose3D;
+
+// A 2 x 1 m grid of 0.1 m cells with one object in D and a wall in S, seen from the left.
+DynamicGridMap scene() {
+  DynamicMapOptions o;
+  o.resolution = 0.1;
+  DynamicGridMap m(o, {}, 0, 2, 0, 1);
+  // A wall at x = 1.55 m, then an object appears at 0.95 m in the space S knows free.
+  for (int k = 0; k < 20; ++k)
+    m.insertObservation(*test::makeScan({1.5f}, 0.001), CPose3D(0.05, 0.55, 0, 0, 0, 0));
+  for (int k = 0; k < 5; ++k)
+    m.insertObservation(*test::makeScan({0.9f}, 0.001), CPose3D(0.05, 0.55, 0, 0, 0, 0));
+  return m;
+}
+
+std::uint8_t greyAt(const mrpt::img::CImage& img, int x, int y) {
+  return *img.ptr<std::uint8_t>(static_cast<unsigned>(x), static_cast<unsigned>(y));
+}
+
+TEST(Render, StaticIsOneGreyPixelPerCellNorthUp) {
+  const DynamicGridMap m = scene();
+  const mrpt::img::CImage img = renderStatic(m);
+  ASSERT_EQ(img.getWidth(), m.getSizeX());
+  ASSERT_EQ(img.getHeight(), m.getSizeY());
+  const int wall_x = m.x2idx(1.55), row_y = m.y2idx(0.55);
+  const int py = static_cast<int>(m.getSizeY()) - 1 - row_y;  // row 0 is the largest y
+  EXPECT_LT(greyAt(img, wall_x, py), 40);                     // occupied: dark
+  EXPECT_GT(greyAt(img, m.x2idx(0.5), py), 215);              // crossed: light
+  EXPECT_EQ(greyAt(img, wall_x, 0), greyAt(img, 0, 0));       // unknown: the prior's grey
+  EXPECT_NEAR(greyAt(img, 0, 0), 127, 1);
+}
+
+TEST(Render, DynamicShowsDsObjectInRedAndSsWallInGrey) {
+  const DynamicGridMap m = scene();
+  const mrpt::img::CImage img = renderDynamic(m);
+  ASSERT_EQ(img.getWidth(), m.getSizeX());
+  const int py = static_cast<int>(m.getSizeY()) - 1 - m.y2idx(0.55);
+  const auto* obj =
+      img.ptr<std::uint8_t>(static_cast<unsigned>(m.x2idx(0.95)), static_cast<unsigned>(py));
+  EXPECT_GT(obj[2], 150);  // BGR: red dominates
+  EXPECT_LT(obj[1], 100);
+  const auto* wall =
+      img.ptr<std::uint8_t>(static_cast<unsigned>(m.x2idx(1.55)), static_cast<unsigned>(py));
+  EXPECT_EQ(wall[0], wall[2]);  // grey, not red
+  EXPECT_LT(wall[0], 250);
+}
+
+TEST(Render, PixelsAndScales) {
+  EXPECT_EQ(overlayScale(100), 8);  // small maps are scaled up, at most 8 times
+  EXPECT_EQ(overlayScale(300), 3);
+  EXPECT_EQ(overlayScale(2000), 1);
+  const DynamicGridMap m = scene();
+  const View v{0, 0, static_cast<int>(m.getSizeX()), static_cast<int>(m.getSizeY()), 4};
+  const Pixel p = toPixel(m, v, m.idx2x(3), m.idx2y(2));
+  EXPECT_NEAR(p.x, 3 * 4 + 2, 1);  // the cell's centre, scaled
+  EXPECT_NEAR(p.y, (static_cast<int>(m.getSizeY()) - 1 - 2) * 4 + 2, 1);
+}
+
+}  // namespace
+}  // namespace dynamap
