@@ -6,7 +6,9 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace dynamap {
@@ -22,6 +24,62 @@ std::string trim(const std::string& s) {
 std::string stripComment(const std::string& s) {
   const auto pos = s.find_first_of(";#");
   return trim(pos == std::string::npos ? s : s.substr(0, pos));
+}
+
+[[noreturn]] void failLine(const std::string& name, std::size_t line, const std::string& what) {
+  throw ConfigError(name + ":" + std::to_string(line) + ": " + what);
+}
+
+// MRPT's reader expands ${VAR}, $env{VAR} and $eval{...} and obeys #define and @include: a
+// configuration would then depend on the environment and could read other files. dynamap takes
+// every value literally, so such a line is refused instead of silently meaning something else.
+bool hasMrptDirective(const std::string& line) {
+  const std::string t = trim(line);
+  for (const char* d : {"#define", "#undef", "#if", "#else", "#endif", "@include"}) {
+    if (t.rfind(d, 0) == 0) return true;
+  }
+  const std::string code = t.substr(0, t.find_first_of(";#"));
+  return code.find("${") != std::string::npos || code.find("$env{") != std::string::npos ||
+         code.find("$eval{") != std::string::npos;
+}
+
+// One line of an ini file: blank, a comment, [section] or key = value. Records keys per section
+// to refuse a key given twice (the later value would silently win).
+void checkLine(const std::string& name, std::size_t n, const std::string& raw, std::string& section,
+               std::map<std::string, std::size_t>& first_seen) {
+  for (const char c : raw) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u == 0 || (u < 0x20 && c != '\t' && c != '\r')) failLine(name, n, "not a text file");
+  }
+  if (hasMrptDirective(raw)) {
+    failLine(name, n, "variables, #define and @include are not supported: values are literal");
+  }
+  const std::string t = trim(raw);
+  if (t.empty() || t[0] == ';' || t[0] == '#') return;
+  if (t[0] == '[') {
+    if (t.back() != ']') failLine(name, n, "a section header must end with ']'");
+    section = trim(t.substr(1, t.size() - 2));
+    return;
+  }
+  const auto eq = t.find('=');
+  if (eq == std::string::npos) failLine(name, n, "expected 'key = value' or '[section]'");
+  const std::string key = trim(t.substr(0, eq));
+  if (key.empty()) failLine(name, n, "a value without a key");
+  const auto [it, fresh] = first_seen.emplace(section + "\n" + key, n);
+  if (!fresh) {
+    failLine(name, n,
+             "[" + section + "] " + key + ": given twice (first on line " +
+                 std::to_string(it->second) + ")");
+  }
+}
+
+// Every line of `text` well formed, before MRPT's lenient parser sees it.
+void checkIniText(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
+  std::string section;
+  std::map<std::string, std::size_t> first_seen;
+  std::size_t n = 0;
+  for (std::string line; std::getline(in, line);) checkLine(name, ++n, line, section, first_seen);
 }
 
 }  // namespace
@@ -62,15 +120,26 @@ bool parseLong(const std::string& text, long& out) {
 }
 
 IniFile IniFile::fromFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw ConfigError(path + ": is a directory, not a configuration file");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path + ": cannot open configuration file");
-  std::stringstream ss;
-  ss << in.rdbuf();
+  // Read at most one byte past the cap: a configuration is small, /dev/zero is not.
+  std::string text(kMaxFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
   if (in.bad()) throw ConfigError(path + ": cannot read configuration file");
-  return fromText(ss.str(), path);
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxFileBytes) {
+    throw ConfigError(path + ": larger than " + std::to_string(kMaxFileBytes >> 20) +
+                      " MiB: not a configuration file");
+  }
+  return fromText(text, path);
 }
 
 IniFile IniFile::fromText(const std::string& text, const std::string& name) {
+  checkIniText(text, name);
   auto cfg = std::make_shared<mrpt::config::CConfigFileMemory>(text);
   return IniFile(cfg, name);
 }

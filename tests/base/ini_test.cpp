@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <functional>
 
 namespace dynamap {
@@ -53,6 +54,38 @@ TEST(IniFile, UnknownKeysAndSectionsAreErrors) {
 TEST(IniFile, AMissingFileIsAnErrorNamingIt) {
   EXPECT_EQ(errorOf([] { IniFile::fromFile("/nonexistent/x.ini"); }),
             "/nonexistent/x.ini: cannot open configuration file");
+}
+
+TEST(IniFile, EveryLineIsBlankACommentASectionOrAKeyValue) {
+  EXPECT_EQ(errorOf([] { ini("[a]\nresolution 0.05\n"); }),
+            "test.ini:2: expected 'key = value' or '[section]'");
+  EXPECT_EQ(errorOf([] { ini("[a\nx = 1\n"); }), "test.ini:1: a section header must end with ']'");
+  EXPECT_EQ(errorOf([] { ini("[a]\n = 1\n"); }), "test.ini:2: a value without a key");
+  EXPECT_EQ(errorOf([] { ini("; fine\n# fine\n\n[a]\nx = 1 ; fine\n"); }), "");
+}
+
+TEST(IniFile, AKeyGivenTwiceIsAnErrorNotASilentOverride) {
+  EXPECT_EQ(errorOf([] { ini("[a]\nx = 1\n[b]\nx = 2\n[a]\nx = 3\n"); }),
+            "test.ini:6: [a] x: given twice (first on line 2)");
+}
+
+TEST(IniFile, ValuesAreLiteralMrptExpansionsAreRefused) {
+  for (const char* text : {"[a]\nx = ${HOME}\n", "[a]\nx = $env{HOME}\n", "[a]\nx = $eval{1+1}\n",
+                           "#define X 1\n[a]\nx = 1\n", "@include other.ini\n"}) {
+    EXPECT_NE(errorOf([&] { ini(text); }).find("not supported: values are literal"),
+              std::string::npos)
+        << text;
+  }
+}
+
+TEST(IniFile, BinariesDirectoriesAndEndlessFilesAreRefusedByName) {
+  EXPECT_EQ(errorOf([] { ini(std::string("[a]\nx = 1\0\x01\n", 11)); }),
+            "test.ini:2: not a text file");
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  EXPECT_EQ(errorOf([&] { IniFile::fromFile(dir); }),
+            dir + ": is a directory, not a configuration file");
+  EXPECT_EQ(errorOf([] { IniFile::fromFile("/dev/zero"); }),
+            "/dev/zero: larger than 1 MiB: not a configuration file");
 }
 
 TEST(ParseNumbers, TheWholeTextMustBeTheNumber) {

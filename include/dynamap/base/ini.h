@@ -19,9 +19,15 @@ class ConfigError : public std::runtime_error {
 };
 
 /// An ini file (on disk or in memory) with strict, typed accessors.
-/// Values may carry a trailing comment introduced by ';' or '#'.
+/// Values may carry a trailing comment introduced by ';' or '#'. Every line must be blank, a
+/// comment, a [section] or key = value; a key given twice in a section, a binary file, a file over
+/// kMaxFileBytes and MRPT's own ${VAR} / $env{} / $eval{} / #define / @include are ConfigErrors
+/// naming the file and line: values are taken literally.
 class IniFile {
  public:
+  /// The largest configuration or scenario file read [bytes].
+  static constexpr std::size_t kMaxFileBytes = std::size_t{1} << 20;
+
   /// Loads `path`; throws ConfigError when it is missing or unreadable.
   static IniFile fromFile(const std::string& path);
   /// Parses `text`; `name` stands for the file in error messages.
