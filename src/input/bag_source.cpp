@@ -84,12 +84,14 @@ class TfTree {
     return false;
   }
 
-  /// The pose of `source` in `target` at time t (kLater: a later transform is needed first).
+  /// The pose of `source` in `target` at time t (kLater: a later transform may still make it
+  /// known; with `complete` none will).
   Lookup lookup(const std::string& target, const std::string& source, double t, bool complete,
                 CPose2D& out) const {
     const std::vector<std::string> up_s = chain(source), up_t = chain(target);
     const auto common = std::find_first_of(up_s.begin(), up_s.end(), up_t.begin(), up_t.end());
-    if (common == up_s.end()) return Lookup::kMissing;
+    // Frames not (yet) connected: a transform joining them may still come.
+    if (common == up_s.end()) return complete ? Lookup::kMissing : Lookup::kLater;
     CPose2D in_common_s, in_common_t;
     const Lookup a = poseIn(source, *common, t, complete, in_common_s);
     if (a != Lookup::kFound) return a;
@@ -97,6 +99,12 @@ class TfTree {
     if (b != Lookup::kFound) return b;
     out = in_common_s - in_common_t;
     return Lookup::kFound;
+  }
+
+  std::size_t samples() const {
+    std::size_t n = 0;
+    for (const auto& kv : edges_) n += kv.second.track.size();
+    return n;
   }
 
   /// Forgets timed samples no lookup at time >= t needs.
@@ -506,6 +514,10 @@ const SourceStats& BagReader::stats() const { return impl_->stats; }
 const std::string& BagReader::path() const { return impl_->path; }
 double BagReader::fractionRead() const {
   return impl_->view_size > 0 ? std::min(1.0, impl_->done / impl_->view_size) : 1.0;
+}
+
+std::size_t BagReader::samplesKept() const {
+  return impl_->tree.samples() + impl_->odom.size();
 }
 
 // --- the ScanSource ----------------------------------------------------------------------------

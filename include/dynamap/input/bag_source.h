@@ -87,6 +87,9 @@ class BagReader {
   const std::string& path() const;
   /// Messages read over the messages of the topics read, in [0, 1].
   double fractionRead() const;
+  /// Timed transforms and odometry samples held now: those of a sliding window of kHistory_s
+  /// (10 s) before the oldest scan still waiting, whatever the bag's length.
+  std::size_t samplesKept() const;
 
  private:
   struct Impl;
