@@ -177,7 +177,7 @@ TEST(Faults, EmptyFilesAndFilesThatAreNoLogAreErrorsNamingTheFile) {
   EXPECT_EQ(out, "dynamap map: " + dir + "/empty.rawlog: empty file\n");
   EXPECT_EQ(map("--input " + dir + "/picture.rawlog --out " + dir + "/o2", &out), 1);
   EXPECT_EQ(out, "dynamap map: " + dir +
-                     "/picture.rawlog: not an MRPT rawlog, simplemap or CARMEN log\n");
+                     "/picture.rawlog: not an MRPT rawlog, simplemap, CARMEN log or ROS bag\n");
   EXPECT_FALSE(fs::exists(dir + "/o2/summary.json"));
 }
 

@@ -200,7 +200,7 @@ TEST(ScanSource, NotALogIsAnErrorNamingTheFile) {
   const std::string dir = test::tempDir("src");
   std::ofstream(dir + "/junk.bin", std::ios::binary) << std::string(300, '\x07');
   EXPECT_EQ(inputError([&] { openScanSource(dir + "/junk.bin", PoseSource::Auto); }),
-            dir + "/junk.bin: not an MRPT rawlog, simplemap or CARMEN log");
+            dir + "/junk.bin: not an MRPT rawlog, simplemap, CARMEN log or ROS bag");
   std::ofstream(dir + "/empty.rawlog");
   EXPECT_EQ(inputError([&] { openScanSource(dir + "/empty.rawlog", PoseSource::Auto); }),
             dir + "/empty.rawlog: empty file");
@@ -209,8 +209,8 @@ TEST(ScanSource, NotALogIsAnErrorNamingTheFile) {
 }
 
 TEST(ScanSource, PoseSourceNames) {
-  for (auto s :
-       {PoseSource::Auto, PoseSource::Simplemap, PoseSource::GroundTruth, PoseSource::Odometry}) {
+  for (auto s : {PoseSource::Auto, PoseSource::Simplemap, PoseSource::GroundTruth,
+                 PoseSource::Odometry, PoseSource::ScanMatching, PoseSource::Fixed}) {
     EXPECT_EQ(parsePoseSource(toString(s)), s);
   }
   EXPECT_THROW(parsePoseSource("gps"), std::invalid_argument);
