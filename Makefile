@@ -18,6 +18,12 @@
 #   make compare-icp-slam  odometry-only mapping: dynamap's scan matching against MRPT's icp-slam
 #                and raw odometry on corridors_odom (installs mrpt-apps), and the SENA log maps
 
+# ROS 1's rosbag and the messages dynamap reads from a bag (a build with -DDYNAMAP_ROSBAG=OFF
+# needs none of them). Debian's rosbag headers include the ROS 2 pluginlib, hence the last five.
+ROSBAG_PACKAGES := librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev \
+  libgeometry-msgs-dev pluginlib-dev libclass-loader-dev librcpputils-dev librcutils-dev \
+  libament-index-cpp-dev
+
 # Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
 # keep the install well below the whole libmrpt-dev metapackage; mrpt-common brings MRPT's own
 # example logs, which the tests read (Malaga's simplemap).
@@ -25,7 +31,7 @@ DEB_PACKAGES := cmake g++ make \
   libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
   libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
   libeigen3-dev libboost-program-options-dev libgtest-dev \
-  mrpt-common
+  mrpt-common $(ROSBAG_PACKAGES)
 
 BUILD_DIR ?= build
 BUILD_TYPE ?= Release
