@@ -20,9 +20,10 @@ geometry_msgs::Quaternion yawQuaternion(double yaw) {
 
 }  // namespace
 
-BagWriter::BagWriter(const std::string& path)
+BagWriter::BagWriter(const std::string& path, int compression)
     : bag_(std::make_unique<rosbag::Bag>(path, rosbag::bagmode::Write)) {
   bag_->setChunkThreshold(4096);  // many chunks: a cut file keeps some whole
+  bag_->setCompression(static_cast<rosbag::compression::CompressionType>(compression));
 }
 
 BagWriter::~BagWriter() = default;

@@ -24,7 +24,8 @@ struct RosScan {
 
 class BagWriter {
  public:
-  explicit BagWriter(const std::string& path);
+  /// `compression`: rosbag::compression::CompressionType (0 none, 1 bz2, 2 lz4).
+  explicit BagWriter(const std::string& path, int compression = 0);
   ~BagWriter();
   /// A LaserScan on `topic`, stamped and recorded at t.
   void scan(const std::string& topic, double t, const RosScan& s);

@@ -18,6 +18,7 @@
 
 #include "dynamap/base/allocation_limit.h"
 #include "dynamap/base/pose_track.h"
+#include "bag_salvage.h"
 
 namespace dynamap {
 namespace {
@@ -200,6 +201,57 @@ std::string topicList(const std::vector<std::pair<std::string, std::string>>& to
   return out.empty() ? "none" : out;
 }
 
+/// The messages of some topics, in order: through rosbag's View when the bag has its index, else
+/// through BagSalvage in file order (a bag cut off or never closed).
+class MessageCursor {
+ public:
+  MessageCursor(rosbag::Bag& bag, const std::vector<std::string>& topics)
+      : view_(std::make_unique<rosbag::View>(bag, rosbag::TopicQuery(topics))),
+        size_(view_->size()) {}
+  MessageCursor(const std::string& path, const std::vector<std::string>& topics)
+      : salvage_(std::make_unique<bag::BagSalvage>(path)), topics_(topics) {}
+
+  /// Moves to the next message (the first, on the first call); false at the end.
+  bool next() {
+    if (salvage_) {
+      while (salvage_->next()) {
+        if (topics_.empty() || std::count(topics_.begin(), topics_.end(), salvage_->topic())) {
+          return true;
+        }
+      }
+      return false;
+    }
+    if (started_) ++it_;
+    else it_ = view_->begin();
+    started_ = true;
+    done_ += 1;
+    return it_ != view_->end();
+  }
+  const std::string& topic() const { return salvage_ ? salvage_->topic() : it_->getTopic(); }
+  double time() const { return salvage_ ? salvage_->time() : it_->getTime().toSec(); }
+  template <class T>
+  boost::shared_ptr<T> as() const {
+    return salvage_ ? salvage_->as<T>() : it_->instantiate<T>();
+  }
+  double fractionRead() const {
+    if (salvage_) return salvage_->fractionRead();
+    return size_ > 0 ? std::min(1.0, (done_ - 1) / size_) : 1.0;
+  }
+  /// Salvage only: where and why the readable part ended, and the topics seen.
+  std::string fault() const { return salvage_ ? salvage_->fault() : ""; }
+  std::vector<std::pair<std::string, std::string>> salvagedTopics() const {
+    return salvage_->topics();
+  }
+
+ private:
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+  double size_ = 0, done_ = 0;
+  bool started_ = false;
+  std::unique_ptr<bag::BagSalvage> salvage_;
+  std::vector<std::string> topics_;
+};
+
 }  // namespace
 
 // --- the reader --------------------------------------------------------------------------------
@@ -217,10 +269,9 @@ struct BagReader::Impl {
   std::string path;
   BagOptions options;
   rosbag::Bag bag;
+  bool salvage = false;  // rosbag cannot open it: read what is left in file order
   BagContents contents;
-  std::unique_ptr<rosbag::View> view;
-  rosbag::View::iterator it;
-  double view_size = 0, done = 0;
+  std::unique_ptr<MessageCursor> cursor;  // the scans, /tf and odometry
   TfTree tree;
   PoseTrack odom;
   bool need_odometry = false, need_ground_truth = false;
@@ -241,7 +292,12 @@ struct BagReader::Impl {
   void peekTf();
   void startView();
   void readMessage();
-  void takeScan(const rosbag::MessageInstance& m);
+  std::string salvageFault() const;
+  std::unique_ptr<MessageCursor> messages(const std::vector<std::string>& topics) {
+    return salvage ? std::make_unique<MessageCursor>(path, topics)
+                   : std::make_unique<MessageCursor>(bag, topics);
+  }
+  void takeScan(const MessageCursor& m);
   void takeTf(const tf2_msgs::TFMessage& msg, bool is_static);
   Outcome resolve(Pending& p, bool complete);
   void resolvePending(bool final);
@@ -253,12 +309,9 @@ void BagReader::Impl::open() {
     const AllocationLimit limit;
     bag.open(path, rosbag::bagmode::Read);
   } catch (const rosbag::BagUnindexedException&) {
-    fail(
-        "a ROS bag without its index (its recorder did not close it): rosbag cannot read it; "
-        "`rosbag reindex` repairs it");
-  } catch (const rosbag::BagIOException& e) {
-    fail(std::string("a ROS bag cut off or unreadable (") + e.what() +
-         "): rosbag cannot read it without its index; `rosbag reindex` recovers what is left");
+    salvage = true;  // never closed: rosbag needs the index the recorder writes last
+  } catch (const rosbag::BagIOException&) {
+    salvage = true;  // cut off: the index, at the end, is gone
   } catch (const std::exception& e) {
     fail(std::string("not a readable ROS bag: ") + e.what());
   }
@@ -272,9 +325,20 @@ bool BagReader::Impl::topicExists(const std::string& topic, const char* type) co
 }
 
 void BagReader::Impl::findTopics() {
-  rosbag::View all(bag);
   std::set<std::pair<std::string, std::string>> seen;
-  for (const rosbag::ConnectionInfo* c : all.getConnections()) seen.insert({c->topic, c->datatype});
+  if (salvage) {
+    MessageCursor all(path, {});
+    while (all.next()) {
+    }
+    const auto topics = all.salvagedTopics();
+    seen.insert(topics.begin(), topics.end());
+    if (seen.empty()) fail("a ROS bag without its index and no whole message: " + all.fault());
+  } else {
+    rosbag::View all(bag);
+    for (const rosbag::ConnectionInfo* c : all.getConnections()) {
+      seen.insert({c->topic, c->datatype});
+    }
+  }
   contents.topics.assign(seen.begin(), seen.end());
   std::vector<std::string> scans;
   for (const auto& [topic, type] : contents.topics) {
@@ -316,24 +380,21 @@ void BagReader::Impl::takeTf(const tf2_msgs::TFMessage& msg, bool is_static) {
 
 /// /tf_static first, whole: a recorder latches it once, often after the first scans.
 void BagReader::Impl::readStatic() {
-  rosbag::View v(bag, rosbag::TopicQuery(kTfStaticTopics));
-  for (const rosbag::MessageInstance& m : v) {
+  auto m = messages(kTfStaticTopics);
+  while (m->next()) {
     const AllocationLimit limit;
-    if (auto msg = m.instantiate<tf2_msgs::TFMessage>()) takeTf(*msg, true);
+    if (auto msg = m->as<tf2_msgs::TFMessage>()) takeTf(*msg, true);
   }
 }
 
 /// Which frames the bag's /tf names, from its first messages (a peek; nothing is kept).
 void BagReader::Impl::peekTf() {
   std::set<std::string> frames;
-  rosbag::View st(bag, rosbag::TopicQuery(kTfStaticTopics));
-  rosbag::View v(bag, rosbag::TopicQuery(kTfTopics));
   std::size_t n = 0;
-  for (rosbag::View* view_ptr : {&st, &v}) {
-    for (const rosbag::MessageInstance& m : *view_ptr) {
-      if (n++ >= kPeekTfMessages) break;
+  for (const auto& topics : {kTfStaticTopics, kTfTopics}) {
+    for (auto m = messages(topics); n < kPeekTfMessages && m->next(); ++n) {
       const AllocationLimit limit;
-      auto msg = m.instantiate<tf2_msgs::TFMessage>();
+      auto msg = m->as<tf2_msgs::TFMessage>();
       if (!msg) continue;
       for (const auto& tr : msg->transforms) {
         frames.insert(frameName(tr.header.frame_id));
@@ -350,17 +411,15 @@ void BagReader::Impl::startView() {
   std::vector<std::string> topics = kTfTopics;
   topics.push_back(contents.scan_topic);
   if (!options.odom_topic.empty()) topics.push_back(options.odom_topic);
-  view = std::make_unique<rosbag::View>(bag, rosbag::TopicQuery(topics));
-  view_size = view->size();
-  it = view->begin();
+  cursor = messages(topics);
 }
 
-void BagReader::Impl::takeScan(const rosbag::MessageInstance& m) {
-  auto msg = m.instantiate<sensor_msgs::LaserScan>();
+void BagReader::Impl::takeScan(const MessageCursor& m) {
+  auto msg = m.as<sensor_msgs::LaserScan>();
   if (!msg) return;
   const std::size_t index = stats.scans++;
   double t = msg->header.stamp.toSec();
-  if (t == 0) t = m.getTime().toSec();  // no stamp: the time it was recorded
+  if (t == 0) t = m.time();  // no stamp: the time it was recorded
   double centre = 0;
   std::string bad;
   auto scan = convertScan(*msg, centre, bad);
@@ -374,29 +433,28 @@ void BagReader::Impl::takeScan(const rosbag::MessageInstance& m) {
 }
 
 void BagReader::Impl::readMessage() {
-  if (it == view->end()) {
-    eof = true;
-    return;
-  }
   try {
     const AllocationLimit limit;
-    const rosbag::MessageInstance& m = *it;
+    if (!cursor->next()) {
+      eof = true;
+      if (salvage) fault = salvageFault();
+      return;
+    }
+    const MessageCursor& m = *cursor;
     ++stats.records;
-    done += 1;
-    if (m.getTopic() == contents.scan_topic) {
+    if (m.topic() == contents.scan_topic) {
       takeScan(m);
-    } else if (m.getTopic() == options.odom_topic) {
-      if (auto o = m.instantiate<nav_msgs::Odometry>()) {
+    } else if (m.topic() == options.odom_topic) {
+      if (auto o = m.as<nav_msgs::Odometry>()) {
         const auto& p = o->pose.pose;
         const auto pose = pose2D(p.position.x, p.position.y, p.orientation);
         const double t = o->header.stamp.toSec();
         if (pose) odom.add(t, *pose);
         if (pose) stream_t = std::max(stream_t, t);
       }
-    } else if (auto tf = m.instantiate<tf2_msgs::TFMessage>()) {
+    } else if (auto tf = m.as<tf2_msgs::TFMessage>()) {
       takeTf(*tf, false);
     }
-    ++it;
   } catch (const std::bad_alloc&) {
     eof = true;
     fault = "message " + std::to_string(stats.records) + " is corrupt: it states a size no " +
@@ -405,6 +463,15 @@ void BagReader::Impl::readMessage() {
     eof = true;
     fault = "message " + std::to_string(stats.records) + " cannot be read: " + e.what();
   }
+}
+
+/// A bag read without its index ends in a fault either way: cut off where the salvage says, or
+/// never closed (the recording may have gone on).
+std::string BagReader::Impl::salvageFault() const {
+  const std::string where = cursor->fault();
+  return "a ROS bag without its index (cut off, or its recorder did not close it), read in "
+         "file order up to its end" +
+         (where.empty() ? std::string() : ": " + where);
 }
 
 BagReader::Impl::Outcome BagReader::Impl::resolve(Pending& p, bool complete) {
@@ -513,7 +580,7 @@ bool BagReader::next(BagScan& out) {
 const SourceStats& BagReader::stats() const { return impl_->stats; }
 const std::string& BagReader::path() const { return impl_->path; }
 double BagReader::fractionRead() const {
-  return impl_->view_size > 0 ? std::min(1.0, impl_->done / impl_->view_size) : 1.0;
+  return impl_->cursor->fractionRead();
 }
 
 std::size_t BagReader::samplesKept() const {

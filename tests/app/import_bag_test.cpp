@@ -1,7 +1,7 @@
 // ROS bags end to end: a bag made from the bundled tiny scenario (its rawlog's scans, its
 // ground truth as tf map -> base_link, the laser mount on /tf_static) maps to the same S as the
 // rawlog, directly and through import-bag; skipped scans are named in summary.json; a standing
-// robot maps at its fixed pose; bad bags fail with the file named.
+// robot maps at its fixed pose; a truncated bag maps up to its cut; bad topics name the file.
 
 #include <gtest/gtest.h>
 
@@ -144,15 +144,30 @@ TEST_F(BagEndToEnd, BadBagsAndTopicsFailNamingTheFile) {
                                         "/tf_static (tf2_msgs/TFMessage))"),
             std::string::npos)
       << out;
+}
+
+TEST_F(BagEndToEnd, ATruncatedBagMapsEveryScanBeforeTheCutAndExits4) {
+  const std::size_t scans = writeTinyBag(path("tiny.bag"));
   fs::copy_file(path("tiny.bag"), path("cut.bag"));
   fs::resize_file(path("cut.bag"), fs::file_size(path("tiny.bag")) / 2);
-  EXPECT_NE(map("--input " + path("cut.bag") + " --out " + path("o"), &out), 0);
-  EXPECT_NE(out.find(path("cut.bag") + ": "), std::string::npos) << out;
-  EXPECT_NE(test::run(std::string(DYNAMAP_EXE) + " import-bag " + path("cut.bag") + " --out " +
+  std::string out;
+  EXPECT_EQ(map("--input " + path("cut.bag") + " --out " + path("o"), &out), 4) << out;
+  EXPECT_NE(out.find("input ended in a fault"), std::string::npos) << out;
+  const std::string s = summary("o");
+  EXPECT_NE(s.find("\"complete_input\": false"), std::string::npos);
+  EXPECT_NE(s.find("(truncated bag)"), std::string::npos) << s;
+  const long used = summaryNumber(s, "used");
+  // Half the file: about half the scans (the other half of the file is mostly scans too).
+  EXPECT_GT(used, static_cast<long>(scans) * 2 / 5);
+  EXPECT_LT(used, static_cast<long>(scans) * 3 / 5);
+  // import-bag keeps the same scans in a rawlog, and says the bag ended in a fault.
+  EXPECT_EQ(test::run(std::string(DYNAMAP_EXE) + " import-bag " + path("cut.bag") + " --out " +
                           path("cut.rawlog"),
                       &out),
-            0);
-  EXPECT_FALSE(fs::exists(path("cut.rawlog")));
+            4)
+      << out;
+  ASSERT_EQ(map("--input " + path("cut.rawlog") + " --out " + path("imported")), 0);
+  EXPECT_EQ(summaryNumber(summary("imported"), "used"), used);
 }
 
 }  // namespace

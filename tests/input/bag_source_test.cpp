@@ -12,6 +12,8 @@
 #include <functional>
 #include <limits>
 
+#include <rosbag/bag.h>
+
 #include "../bag_test_util.h"
 #include "../test_util.h"
 #include "dynamap/input/open_source.h"
@@ -233,17 +235,61 @@ TEST_F(BagSourceTest, AStandingRobotMapsAtTheFixedPose) {
   }
 }
 
-TEST_F(BagSourceTest, ATruncatedBagIsAnInputErrorNamingTheFile) {
+// rosbag cannot open a bag whose index (at its end) is cut off: what is left is read in file
+// order, every scan before the cut kept, and then the cut is an InputError.
+void expectTruncatedBagKeepsItsScans(const std::string& whole, const std::string& cut,
+                                     const std::size_t min_kept) {
+  auto all = openScanSource(whole, PoseSource::Odometry);
+  const auto want = readAll(*all);
+  std::filesystem::copy_file(whole, cut);
+  std::filesystem::resize_file(cut, std::filesystem::file_size(whole) * 2 / 3);
+  EXPECT_TRUE(looksLikeRosBag(cut));
+  auto src = openScanSource(cut, PoseSource::Auto);
+  EXPECT_EQ(src->poseSource(), PoseSource::Odometry);
+  std::vector<ScanRecord> got;
+  const std::string e = inputError([&] {
+    ScanRecord r;
+    while (src->next(r)) got.push_back(r);
+  });
+  EXPECT_EQ(e.rfind(cut + ": a ROS bag without its index", 0), 0u) << e;
+  EXPECT_NE(e.find("(truncated bag)"), std::string::npos) << e;
+  EXPECT_GE(got.size(), min_kept);
+  ASSERT_LT(got.size(), want.size());
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    EXPECT_EQ(got[k].index, want[k].index);
+    EXPECT_DOUBLE_EQ(got[k].t, want[k].t);
+    expectPose(got[k].pose, want[k].pose, 1e-12);
+  }
+}
+
+/// 10 s of /tf at 20 Hz and 40 scans, in chunks of 4 KB.
+void writeLongDrive(BagWriter& bag) {
+  bag.tf(kT0, "base_link", "laser", kMount, true);
+  for (int k = 0; k <= 200; ++k) {
+    const double t = kT0 + 0.05 * k;
+    bag.tf(t, "odom", "base_link", odomAt(t));
+    if (k % 5 == 2 && k < 200) bag.scan("/scan", t, fiveBeams());
+  }
+}
+
+TEST_F(BagSourceTest, ATruncatedBagMapsEveryScanBeforeTheCut) {
   {
     BagWriter bag(path("whole.bag"));
-    writeDrive(bag);
+    writeLongDrive(bag);
   }
-  const auto size = std::filesystem::file_size(path("whole.bag"));
-  std::filesystem::copy_file(path("whole.bag"), path("cut.bag"));
-  std::filesystem::resize_file(path("cut.bag"), size * 2 / 3);
-  EXPECT_TRUE(looksLikeRosBag(path("cut.bag")));
-  const std::string e = inputError([&] { openScanSource(path("cut.bag"), PoseSource::Auto); });
-  EXPECT_EQ(e.rfind(path("cut.bag") + ": a ROS bag cut off", 0), 0u) << e;
+  // Uncompressed chunks (rosbag's default): the cut chunk keeps its whole messages.
+  expectTruncatedBagKeepsItsScans(path("whole.bag"), path("cut.bag"), 24);
+}
+
+TEST_F(BagSourceTest, ATruncatedCompressedBagMapsEveryWholeChunkBeforeTheCut) {
+  for (const auto c : {rosbag::compression::LZ4, rosbag::compression::BZ2}) {
+    const std::string name = c == rosbag::compression::LZ4 ? "lz4" : "bz2";
+    {
+      BagWriter bag(path(name + ".bag"), c);
+      writeLongDrive(bag);
+    }
+    expectTruncatedBagKeepsItsScans(path(name + ".bag"), path(name + "-cut.bag"), 10);
+  }
 }
 
 TEST_F(BagSourceTest, AFileThatIsNoBagIsAnInputErrorNamingIt) {
