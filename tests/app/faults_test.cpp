@@ -405,7 +405,8 @@ TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
   const std::vector<std::pair<std::string, void (*)(const std::uint8_t*, std::size_t)>> targets = {
       {"scenario", fuzz::scenarioInput},
       {"carmen", fuzz::carmenInput},
-      {"rawlog", fuzz::rawlogInput}};
+      {"rawlog", fuzz::rawlogInput},
+      {"bag", fuzz::bagInput}};
   std::size_t files = 0;
   for (const auto& [name, entry] : targets) {
     const fs::path dir = fs::path(kSrc) / "tests/fuzz_regressions" / name;
