@@ -66,7 +66,9 @@ void BagWriter::odometry(const std::string& topic, double t, const mrpt::poses::
   bag_->write(topic, ros::Time(t), o);
 }
 
-void BagWriter::close() { bag_->close(); }
+void BagWriter::close() {
+  bag_->close();
+}
 
 RosScan rosScanOf(const mrpt::obs::CObservation2DRangeScan& scan) {
   RosScan s;

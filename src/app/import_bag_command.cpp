@@ -95,11 +95,11 @@ void printBagSummary(const BagImportArgs& a, const BagReader& reader, std::size_
             << "\n";
   if (t_first) {
     char span[128];
-    std::snprintf(span, sizeof span, "%.6f .. %.6f (%.1f s)", *t_first, t_last,
-                  t_last - *t_first);
+    std::snprintf(span, sizeof span, "%.6f .. %.6f (%.1f s)", *t_first, t_last, t_last - *t_first);
     std::cout << "  time:          " << span << "\n";
   }
-  for (const auto& [reason, n] : s.skipped) std::cout << "  skipped:       " << n << " " << reason << "\n";
+  for (const auto& [reason, n] : s.skipped)
+    std::cout << "  skipped:       " << n << " " << reason << "\n";
   std::cout << "wrote " << a.output << (gt ? " and " + groundTruthPath(a.output) : "") << "\n";
 }
 
@@ -136,7 +136,9 @@ int runImportBag(const Args& args) {
   }
   if (written == 0) {
     throw InputError(fault.empty() ? a.input + ": no scan with " +
-                                         (gt ? "ground truth" : odometry ? "odometry" : "a mount")
+                                         (gt         ? "ground truth"
+                                          : odometry ? "odometry"
+                                                     : "a mount")
                                    : fault);
   }
   out.commit();

@@ -21,14 +21,17 @@ const char* const kUsage =
     "                   [--skip-bad-lines] [--fov DEG] [--scan-topic T] [--odom-topic T]\n"
     "                   [--odom-frame F] [--base-frame F] [--gt-frame F] [--verbose]\n\n"
     "Builds the static map S and the dynamic map D from a log (MRPT rawlog, MRPT simplemap,\n"
-    "CARMEN log, plain or gz, or ROS 1 bag, told apart by content) and writes into DIR: static.png,\n"
-    "dynamic.png, overlay.png, static.gridmap.gz and dynamic.gridmap.gz (MRPT),\n"
+    "CARMEN log, plain or gz, or ROS 1 bag, told apart by content) and writes into DIR:\n"
+    "static.png, dynamic.png, overlay.png, static.gridmap.gz and dynamic.gridmap.gz (MRPT),\n"
     "static.pgm + static.yaml (ROS map_server), config.ini (the effective configuration),\n"
     "summary.json, poses.txt (timestamp x y phi: the pose each scan was mapped at), the\n"
     "object table: objects.csv, events.csv, tracks.csv, and mrpt_plain.png:\n"
     "the plain MRPT grid of the same scans, compared with S in summary.json.\n"
     "--frames-every N also writes frames/NNNNNN.png (the overlay after scan N, 2N, ...) and,\n"
-    "when ffmpeg is installed, timelapse.mp4.";
+    "when ffmpeg is installed, timelapse.mp4.\n"
+    "A ROS bag: sensor_msgs/LaserScan scans; odometry odom -> base_link from /tf (or\n"
+    "nav_msgs/Odometry on --odom-topic), ground truth map -> base_link, the laser's mount\n"
+    "base_link -> its frame from /tf_static; --poses fixed for a robot standing still.";
 
 // One line for the scans skipped (by reason, as in summary.json), one for timestamps that went
 // backwards.
@@ -84,9 +87,9 @@ void applyPoseOptions(const po::variables_map& vm, MapConfig& config) {
 // The command line as a job; false after --help.
 bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
   po::options_description opts("options");
-  opts.add_options()("help,h", "explain the options")("input,i",
-                                                      po::value<std::string>()->required(),
-                                                      "the log to map (rawlog, simplemap, CARMEN, ROS bag)")(
+  opts.add_options()("help,h", "explain the options")(
+      "input,i", po::value<std::string>()->required(),
+      "the log to map (rawlog, simplemap, CARMEN, ROS bag)")(
       "config,c", po::value<std::string>(),
       "the .ini configuration (default: built-in defaults = config/default.ini)")(
       "out,o", po::value<std::string>()->default_value("out"), "output directory (created)")(

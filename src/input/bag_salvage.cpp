@@ -27,7 +27,8 @@ std::uint32_t field32(const std::map<std::string, std::string>& f, const std::st
 }
 
 /// A record header (a list of length-prefixed name=value fields), parsed by ros::Header.
-bool parseFields(const std::uint8_t* p, std::uint32_t len, std::map<std::string, std::string>& out) {
+bool parseFields(const std::uint8_t* p, std::uint32_t len,
+                 std::map<std::string, std::string>& out) {
   std::vector<std::uint8_t> copy(p, p + len);  // ros::Header wants a mutable buffer
   ros::Header header;
   std::string error;
@@ -154,16 +155,16 @@ bool BagSalvage::startChunk(Record& r, bool cut) {
   }
   if (cut) return false;
   const std::uint32_t size = field32(r.fields, rosbag::SIZE_FIELD_NAME);
-  if (size > kMaxRecordAllocation || (compression != rosbag::COMPRESSION_BZ2 &&
-                                      compression != rosbag::COMPRESSION_LZ4)) {
+  if (size > kMaxRecordAllocation ||
+      (compression != rosbag::COMPRESSION_BZ2 && compression != rosbag::COMPRESSION_LZ4)) {
     fault_ = "a chunk of " + std::to_string(size) + " bytes compressed as '" + compression +
              "' is corrupt";
     return false;
   }
   chunk_.resize(size);
-  file_.decompress(compression == rosbag::COMPRESSION_BZ2 ? rosbag::compression::BZ2
-                                                          : rosbag::compression::LZ4,
-                   chunk_.data(), size, outer_.data(), r.data_len);
+  file_.decompress(
+      compression == rosbag::COMPRESSION_BZ2 ? rosbag::compression::BZ2 : rosbag::compression::LZ4,
+      chunk_.data(), size, outer_.data(), r.data_len);
   return true;
 }
 

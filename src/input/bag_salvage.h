@@ -7,10 +7,10 @@
 //
 // Private to the bag reader (bag_source.cpp).
 
-#include <boost/make_shared.hpp>
 #include <ros/message_traits.h>
 #include <ros/serialization.h>
 #include <rosbag/chunked_file.h>
+#include <boost/make_shared.hpp>
 
 #include <cstdint>
 #include <map>

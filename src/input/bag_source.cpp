@@ -16,9 +16,9 @@
 #include <map>
 #include <set>
 
+#include "bag_salvage.h"
 #include "dynamap/base/allocation_limit.h"
 #include "dynamap/base/pose_track.h"
-#include "bag_salvage.h"
 
 namespace dynamap {
 namespace {
@@ -26,10 +26,10 @@ namespace {
 using mrpt::obs::CObservation2DRangeScan;
 using mrpt::poses::CPose2D;
 
-constexpr double kHistory_s = 10.0;          // transforms kept before the oldest scan waiting
-constexpr std::size_t kMaxPending = 10000;   // scans waiting for later transforms
-constexpr std::size_t kMaxFrames = 1000;     // distinct child frames in the tf tree
-constexpr std::size_t kMaxChain = 64;        // frames between a frame and its tree's root
+constexpr double kHistory_s = 10.0;            // transforms kept before the oldest scan waiting
+constexpr std::size_t kMaxPending = 10000;     // scans waiting for later transforms
+constexpr std::size_t kMaxFrames = 1000;       // distinct child frames in the tf tree
+constexpr std::size_t kMaxChain = 64;          // frames between a frame and its tree's root
 constexpr std::size_t kPeekTfMessages = 2000;  // /tf messages read to learn the frames
 constexpr std::size_t kMaxBeams = 1000000;
 const std::vector<std::string> kTfTopics = {"/tf", "tf"};
@@ -72,8 +72,10 @@ class TfTree {
     if (e.parent != parent) e.track = PoseTrack();  // re-parented: the old samples are moot
     e.parent = parent;
     e.is_static = is_static;
-    if (is_static) e.fixed = pose;
-    else e.track.add(t, pose);
+    if (is_static)
+      e.fixed = pose;
+    else
+      e.track.add(t, pose);
     return true;
   }
 
@@ -221,8 +223,10 @@ class MessageCursor {
       }
       return false;
     }
-    if (started_) ++it_;
-    else it_ = view_->begin();
+    if (started_)
+      ++it_;
+    else
+      it_ = view_->begin();
     started_ = true;
     done_ += 1;
     return it_ != view_->end();
@@ -504,9 +508,9 @@ BagReader::Impl::Outcome BagReader::Impl::resolve(Pending& p, bool complete) {
     const L r = lookup(frame, *pose);
     if (r == L::kLater) return Outcome::kLater;
     if (r == L::kMissing) {
-      ++stats.skipped[frame.empty() ? "no " + options.odom_topic + " odometry at the scan's time"
-                                    : "no transform " + frame + " -> " + base +
-                                          " at the scan's time"];
+      ++stats.skipped[frame.empty()
+                          ? "no " + options.odom_topic + " odometry at the scan's time"
+                          : "no transform " + frame + " -> " + base + " at the scan's time"];
       return Outcome::kSkipped;
     }
   }
@@ -551,7 +555,9 @@ BagReader::BagReader(const std::string& path, const BagOptions& options)
 
 BagReader::~BagReader() = default;
 
-const BagContents& BagReader::contents() const { return impl_->contents; }
+const BagContents& BagReader::contents() const {
+  return impl_->contents;
+}
 
 void BagReader::require(bool odometry, bool ground_truth) {
   impl_->need_odometry = odometry;
@@ -577,8 +583,12 @@ bool BagReader::next(BagScan& out) {
   return true;
 }
 
-const SourceStats& BagReader::stats() const { return impl_->stats; }
-const std::string& BagReader::path() const { return impl_->path; }
+const SourceStats& BagReader::stats() const {
+  return impl_->stats;
+}
+const std::string& BagReader::path() const {
+  return impl_->path;
+}
 double BagReader::fractionRead() const {
   return impl_->cursor->fractionRead();
 }
@@ -598,9 +608,12 @@ class BagSource : public ScanSource {
     const BagContents& c = reader_.contents();
     if (source_ == PoseSource::Simplemap) fail("a ROS bag has no simplemap poses");
     if (source_ == PoseSource::Auto) {
-      if (c.ground_truth) source_ = PoseSource::GroundTruth;
-      else if (c.odometry) source_ = PoseSource::Odometry;
-      else fail(noPoses(options));
+      if (c.ground_truth)
+        source_ = PoseSource::GroundTruth;
+      else if (c.odometry)
+        source_ = PoseSource::Odometry;
+      else
+        fail(noPoses(options));
     }
     if (source_ == PoseSource::GroundTruth && !c.ground_truth) {
       fail("no ground truth: no frame '" + options.gt_frame + "' in /tf (--gt-frame)");

@@ -137,8 +137,7 @@ TEST_F(BagEndToEnd, AStandingRobotMapsAtTheFixedPose) {
 TEST_F(BagEndToEnd, BadBagsAndTopicsFailNamingTheFile) {
   writeTinyBag(path("tiny.bag"));
   std::string out;
-  EXPECT_EQ(map("--input " + path("tiny.bag") + " --scan-topic /nope --out " + path("o"), &out),
-            1);
+  EXPECT_EQ(map("--input " + path("tiny.bag") + " --scan-topic /nope --out " + path("o"), &out), 1);
   EXPECT_NE(out.find(path("tiny.bag") + ": no sensor_msgs/LaserScan topic /nope (topics: /scan "
                                         "(sensor_msgs/LaserScan), /tf (tf2_msgs/TFMessage), "
                                         "/tf_static (tf2_msgs/TFMessage))"),

@@ -37,7 +37,9 @@ RosScan fiveBeams(const std::string& frame = "laser") {
 }
 
 /// The robot drives along x at 1 m/s turning at 0.1 rad/s: odom -> base_link at time t.
-CPose2D odomAt(double t) { return CPose2D(t - kT0, 0.0, 0.1 * (t - kT0)); }
+CPose2D odomAt(double t) {
+  return CPose2D(t - kT0, 0.0, 0.1 * (t - kT0));
+}
 
 /// 2 s of /tf at 20 Hz, the static mount, and a scan every 0.25 s from kT0 + 0.1 (8 scans).
 void writeDrive(BagWriter& bag, const std::function<void(double)>& extra_tf = {}) {
@@ -208,8 +210,7 @@ TEST_F(BagSourceTest, TheOnlyLaserScanTopicOrTheNamedOne) {
   EXPECT_EQ(readAll(*src).size(), 3u);
   o.scan_topic = "/front_scan";
   e = inputError([&] { openBagSource(path("two.bag"), PoseSource::Auto, o); });
-  EXPECT_EQ(e.rfind(path("two.bag") + ": no sensor_msgs/LaserScan topic /front_scan (topics: ",
-                    0),
+  EXPECT_EQ(e.rfind(path("two.bag") + ": no sensor_msgs/LaserScan topic /front_scan (topics: ", 0),
             0u)
       << e;
 }

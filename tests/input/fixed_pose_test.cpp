@@ -106,7 +106,7 @@ TEST(FixedPose, ACarmenLogMapsAtTheFixedPose) {
   std::string beams;
   for (int i = 0; i < 181; ++i) beams += " 2.5";
   std::ofstream(dir + "/still.log") << "FLASER 181" << beams << " 5 6 0.5 5 6 0.5 10.5 h 10.6\n"
-                                     << "FLASER 181" << beams << " 5 6 0.5 5 6 0.5 10.7 h 10.8\n";
+                                    << "FLASER 181" << beams << " 5 6 0.5 5 6 0.5 10.7 h 10.8\n";
   const CPose2D at(-1.0, 0.5, 0.0);
   auto src = openScanSource(dir + "/still.log", fixedAt(at));
   const auto recs = readAll(*src);
@@ -125,8 +125,8 @@ TEST(FixedPose, ASimplemapMapsAtTheFixedPose) {
 }
 
 TEST(FixedPose, ChosenInTheInputSectionAndWrittenBackOnlyWhenUsed) {
-  const MapConfig c = MapConfig::load(
-      IniFile::fromText("[input]\nposes = fixed\nfixed_pose = 1 2 0.5\n", "f.ini"));
+  const MapConfig c =
+      MapConfig::load(IniFile::fromText("[input]\nposes = fixed\nfixed_pose = 1 2 0.5\n", "f.ini"));
   EXPECT_EQ(c.poses, PoseSource::Fixed);
   EXPECT_DOUBLE_EQ(c.fixed_pose.y(), 2.0);
   std::ostringstream fixed_ini, auto_ini;

@@ -35,11 +35,11 @@ namespace dynamap {
 
 /// How a bag is read (dynamap map / import-bag options of the same names).
 struct BagOptions {
-  std::string scan_topic;            ///< "" = the bag's only sensor_msgs/LaserScan topic
-  std::string odom_topic;            ///< nav_msgs/Odometry topic; "" = odometry from /tf
-  std::string odom_frame = "odom";   ///< the odometry's fixed frame in /tf
+  std::string scan_topic;                ///< "" = the bag's only sensor_msgs/LaserScan topic
+  std::string odom_topic;                ///< nav_msgs/Odometry topic; "" = odometry from /tf
+  std::string odom_frame = "odom";       ///< the odometry's fixed frame in /tf
   std::string base_frame = "base_link";  ///< the robot's frame
-  std::string gt_frame = "map";      ///< ground truth: this frame's transform to base_frame
+  std::string gt_frame = "map";          ///< ground truth: this frame's transform to base_frame
 };
 
 /// True when the file starts with "#ROSBAG V2.0\n" (a ROS 1 bag); never throws.
@@ -56,7 +56,7 @@ struct BagScan {
 /// What a bag holds, as far as the reader needs it.
 struct BagContents {
   std::vector<std::pair<std::string, std::string>> topics;  ///< topic, message type
-  std::string scan_topic;     ///< the topic read
+  std::string scan_topic;                                   ///< the topic read
   bool odometry = false;      ///< odom_frame in /tf (first messages) or odom_topic given
   bool ground_truth = false;  ///< gt_frame in /tf or /tf_static (first messages)
 };
