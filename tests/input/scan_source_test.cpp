@@ -208,6 +208,20 @@ TEST(ScanSource, NotALogIsAnErrorNamingTheFile) {
             dir + "/none.rawlog: no such file");
 }
 
+// Built with -DDYNAMAP_ROSBAG=OFF, a bag is still told by its first line, and refused by name.
+TEST(ScanSource, ABagInABuildWithoutRosbagIsAnErrorSayingSo) {
+#ifdef DYNAMAP_HAVE_ROSBAG
+  GTEST_SKIP() << "this build reads bags: bag_source_test covers them";
+#else
+  const std::string dir = test::tempDir("src");
+  std::ofstream(dir + "/run.bag", std::ios::binary) << "#ROSBAG V2.0\n" << std::string(64, '\0');
+  EXPECT_EQ(inputError([&] { openScanSource(dir + "/run.bag", PoseSource::Auto); }),
+            dir +
+                "/run.bag: a ROS bag, but this dynamap was built without ROS bag support "
+                "(-DDYNAMAP_ROSBAG=OFF); rebuild with -DDYNAMAP_ROSBAG=ON");
+#endif
+}
+
 TEST(ScanSource, PoseSourceNames) {
   for (auto s : {PoseSource::Auto, PoseSource::Simplemap, PoseSource::GroundTruth,
                  PoseSource::Odometry, PoseSource::ScanMatching, PoseSource::Fixed}) {
