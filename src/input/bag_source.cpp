@@ -316,6 +316,8 @@ void BagReader::Impl::open() {
     salvage = true;  // never closed: rosbag needs the index the recorder writes last
   } catch (const rosbag::BagIOException&) {
     salvage = true;  // cut off: the index, at the end, is gone
+  } catch (const rosbag::BagFormatException&) {
+    salvage = true;  // an index that is corrupt is as good as none
   } catch (const std::exception& e) {
     fail(std::string("not a readable ROS bag: ") + e.what());
   }
@@ -336,7 +338,11 @@ void BagReader::Impl::findTopics() {
     }
     const auto topics = all.salvagedTopics();
     seen.insert(topics.begin(), topics.end());
-    if (seen.empty()) fail("a ROS bag without its index and no whole message: " + all.fault());
+    if (seen.empty()) {
+      const std::string why = all.fault();
+      fail("not a readable ROS bag: no index and no whole message" +
+           (why.empty() ? std::string() : " (" + why + ")"));
+    }
   } else {
     rosbag::View all(bag);
     for (const rosbag::ConnectionInfo* c : all.getConnections()) {
