@@ -4,6 +4,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
+#include <rosbag/buffer.h>
 #include <rosbag/exceptions.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/LaserScan.h>
@@ -318,6 +319,8 @@ void BagReader::Impl::open() {
     salvage = true;  // cut off: the index, at the end, is gone
   } catch (const rosbag::BagFormatException&) {
     salvage = true;  // an index that is corrupt is as good as none
+  } catch (const std::bad_alloc&) {
+    salvage = true;  // so is one stating a size no real record has
   } catch (const std::exception& e) {
     fail(std::string("not a readable ROS bag: ") + e.what());
   }
@@ -667,3 +670,31 @@ std::unique_ptr<ScanSource> openBagSource(const std::string& path, PoseSource so
 }
 
 }  // namespace dynamap
+
+// --- rosbag's Buffer, bounded ------------------------------------------------------------------
+//
+// rosbag's Buffer (record headers, chunks, messages) grows with realloc to whatever size a bag
+// states, doubling a 32-bit capacity until it is large enough: a corrupt bag makes it allocate
+// gigabytes, loop for ever once the doubling overflows, or write through the null pointer a
+// failed realloc returns (its check is an assert, compiled out). Like mrpt::aligned_malloc in
+// base/allocation_limit.cpp, this definition takes the place of librosbag_storage's own (which
+// calls it through the PLT) with the same behaviour for every real bag, and applies the record
+// AllocationLimit in force: a refusal, or a failed realloc, throws std::bad_alloc, which the
+// bag reader reports as a corrupt bag naming the file.
+
+namespace rosbag {
+
+void Buffer::ensureCapacity(uint32_t capacity) {
+  if (capacity <= capacity_) return;
+  const std::size_t limit = dynamap::currentAllocationLimit();
+  if (limit != 0 && capacity > limit) throw std::bad_alloc();
+  std::uint64_t grown = capacity_ == 0 ? capacity : capacity_;
+  while (grown < capacity) grown *= 2;  // 64 bits: no overflow
+  if (grown > UINT32_MAX || (limit != 0 && grown > limit)) grown = capacity;
+  void* p = std::realloc(buffer_, grown);
+  if (!p) throw std::bad_alloc();
+  buffer_ = static_cast<uint8_t*>(p);
+  capacity_ = static_cast<uint32_t>(grown);
+}
+
+}  // namespace rosbag

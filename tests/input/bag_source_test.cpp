@@ -13,9 +13,11 @@
 #include <limits>
 
 #include <rosbag/bag.h>
+#include <rosbag/buffer.h>
 
 #include "../bag_test_util.h"
 #include "../test_util.h"
+#include "dynamap/base/allocation_limit.h"
 #include "dynamap/input/open_source.h"
 
 namespace dynamap {
@@ -301,6 +303,22 @@ TEST_F(BagSourceTest, AFileThatIsNoBagIsAnInputErrorNamingIt) {
   std::ofstream(path("text.bag")) << "#ROSBAG V1.2\n";
   EXPECT_FALSE(looksLikeRosBag(path("text.bag")));
   EXPECT_FALSE(looksLikeRosBag(path("absent.bag")));
+}
+
+// rosbag sizes its buffers by what the bag says; dynamap's definition of Buffer::ensureCapacity
+// (bag_source.cpp) replaces rosbag's and applies the record allocation limit.
+TEST(RosbagBuffer, GrowsUnderTheAllocationLimitOnly) {
+  rosbag::Buffer b;
+  {
+    const AllocationLimit limit(1 << 20);
+    EXPECT_THROW(b.setSize(1u << 30), std::bad_alloc);  // rosbag's own would take 1 GiB
+    b.setSize(1000);
+    EXPECT_GE(b.getCapacity(), 1000u);
+    b.setSize(3000);  // doubled from 1000
+    EXPECT_EQ(b.getCapacity(), 4000u);
+  }
+  b.setSize(4u << 20);  // no limit in force: doubled as rosbag does, 4000 * 2^11
+  EXPECT_EQ(b.getCapacity(), 8192000u);
 }
 
 TEST_F(BagSourceTest, TransformsAreKeptForASlidingWindowOnly) {
