@@ -29,6 +29,7 @@ std::uint32_t field32(const std::map<std::string, std::string>& f, const std::st
 /// A record header (a list of length-prefixed name=value fields), parsed by ros::Header.
 bool parseFields(const std::uint8_t* p, std::uint32_t len,
                  std::map<std::string, std::string>& out) {
+  if (!headerFieldsFit(p, len)) return false;
   std::vector<std::uint8_t> copy(p, p + len);  // ros::Header wants a mutable buffer
   ros::Header header;
   std::string error;
@@ -55,6 +56,17 @@ bool recordAt(const std::uint8_t* p, std::size_t n, std::size_t& used,
 }
 
 }  // namespace
+
+bool headerFieldsFit(const std::uint8_t* p, std::uint32_t len) {
+  std::uint32_t pos = 0;
+  while (pos < len) {
+    if (len - pos < 4) return false;
+    const std::uint32_t n = le32(p + pos);
+    if (n > len - pos - 4) return false;
+    pos += 4 + n;
+  }
+  return true;
+}
 
 BagSalvage::BagSalvage(const std::string& path) : path_(path) {
   try {

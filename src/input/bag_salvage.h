@@ -20,6 +20,11 @@
 
 namespace dynamap::bag {
 
+/// True when every length-prefixed field of a record header lies inside its `len` bytes.
+/// ros::Header::parse trusts each field's stated length (up to 1 MB) and reads past the header
+/// when it lies; bag_source.cpp makes every parse check this first.
+bool headerFieldsFit(const std::uint8_t* p, std::uint32_t len);
+
 class BagSalvage {
  public:
   /// Opens the file; throws InputError when it cannot be opened or is no bag 2.0.

@@ -1,8 +1,10 @@
 #include "dynamap/input/bag_source.h"
 
+#include <dlfcn.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/poses/CPose3D.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/header.h>
 #include <rosbag/bag.h>
 #include <rosbag/buffer.h>
 #include <rosbag/exceptions.h>
@@ -698,3 +700,30 @@ void Buffer::ensureCapacity(uint32_t capacity) {
 }
 
 }  // namespace rosbag
+
+// --- ros::Header::parse, bounded -----------------------------------------------------------------
+//
+// rosbag parses every record header with ros::Header::parse, which takes each field's length
+// from the bag and copies that many bytes, past the end of the header when a corrupt bag says
+// so. This definition takes the place of libcpp_common's for rosbag's calls (through the PLT):
+// a header whose fields do not fit is refused (rosbag then throws, the reader reports the bag
+// as corrupt), one whose fields fit is parsed by ROS's own definition, found with RTLD_NEXT.
+
+namespace ros {
+
+bool Header::parse(uint8_t* buffer, uint32_t size, std::string& error_msg) {
+  if (!dynamap::bag::headerFieldsFit(buffer, size)) {
+    error_msg = "a header field runs past the end of the header";
+    return false;
+  }
+  using Parse = bool (*)(Header*, uint8_t*, uint32_t, std::string&);
+  static const Parse ros_parse = reinterpret_cast<Parse>(dlsym(
+      RTLD_NEXT, "_ZN3ros6Header5parseEPhjRNSt7__cxx1112basic_stringIcSt11char_traitsIcESaIcEEE"));
+  if (!ros_parse) {
+    error_msg = "ros::Header::parse not found in libcpp_common";
+    return false;
+  }
+  return ros_parse(this, buffer, size, error_msg);
+}
+
+}  // namespace ros
