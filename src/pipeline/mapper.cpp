@@ -59,8 +59,8 @@ std::vector<OptionDoc> MapConfig::describe() {
   std::vector<OptionDoc> docs = {
       {"input", "poses", toString(defaults.poses), "", "where each scan's robot pose comes from",
        "auto, simplemap, ground_truth, odometry, scan_matching, fixed"},
-      {"input", "fixed_pose", formatFixedPose(defaults.fixed_pose), "m m rad",
-       "x y phi: the pose of every scan with poses = fixed", "three finite numbers"}};
+      {"input", "fixed_pose", formatFixedPose(defaults.fixed_pose), "",
+       "x y phi [m m rad]: the pose of every scan with poses = fixed", "three finite numbers"}};
   for (auto&& more : {DynamicMapOptions::table().describe(defaults.map),
                       InsertionOptions::table().describe(defaults.insertion),
                       ObjectOptions::table().describe(defaults.objects),
