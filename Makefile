@@ -18,6 +18,12 @@
 #   make compare-icp-slam  odometry-only mapping: dynamap's scan matching against MRPT's icp-slam
 #                and raw odometry on corridors_odom (installs mrpt-apps), and the SENA log maps
 
+# ROS 1's rosbag and the messages dynamap reads from a bag (a build with -DDYNAMAP_ROSBAG=OFF
+# needs none of them). Debian's rosbag headers include the ROS 2 pluginlib, hence the last five.
+ROSBAG_PACKAGES := librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev \
+  libgeometry-msgs-dev pluginlib-dev libclass-loader-dev librcpputils-dev librcutils-dev \
+  libament-index-cpp-dev
+
 # Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
 # keep the install well below the whole libmrpt-dev metapackage; mrpt-common brings MRPT's own
 # example logs, which the tests read (Malaga's simplemap).
@@ -25,7 +31,7 @@ DEB_PACKAGES := cmake g++ make \
   libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
   libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
   libeigen3-dev libboost-program-options-dev libgtest-dev \
-  mrpt-common
+  mrpt-common $(ROSBAG_PACKAGES)
 
 BUILD_DIR ?= build
 BUILD_TYPE ?= Release
@@ -114,13 +120,14 @@ test-asan: deps
 
 # libFuzzer targets (clang only; `make test` never needs clang). Each runs FUZZ_SECONDS from a
 # corpus in build-fuzz/corpus/<target>/ seeded with fuzz/seeds/<target>/ and keeps growing it
-# between runs. Run longer with FUZZ_SECONDS=3600 make fuzz, or one target directly:
+# between runs (inputs up to 16 KB; 64 KB for bags, whose message definitions alone take 10 KB).
+# Run longer with FUZZ_SECONDS=3600 make fuzz, or one target directly:
 #   build-fuzz/fuzz_rawlog -max_total_time=3600 build-fuzz/corpus/rawlog fuzz/seeds/rawlog
 # A crash leaves its input in build-fuzz/crashes/; fix it, then keep the input in
 # tests/fuzz_regressions/<target>/ (faults_test replays every file there).
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := scenario carmen rawlog
+FUZZ_TARGETS := scenario carmen rawlog bag
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 fuzz-deps: deps
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(FUZZ_PACKAGES)"
@@ -132,7 +139,8 @@ fuzz: fuzz-deps
 	@for t in $(FUZZ_TARGETS); do \
 	  mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/crashes/$$t; \
 	  echo "dynamap: fuzzing $$t for $(FUZZ_SECONDS) s"; \
-	  $(SANITIZER_ENV) $(FUZZ_DIR)/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -max_len=16384 \
+	  len=16384; [ $$t = bag ] && len=65536; \
+	  $(SANITIZER_ENV) $(FUZZ_DIR)/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -max_len=$$len \
 	    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
 	    -artifact_prefix=$(FUZZ_DIR)/crashes/$$t/ $(FUZZ_DIR)/corpus/$$t fuzz/seeds/$$t \
 	    2> $(FUZZ_DIR)/fuzz_$$t.log || { tail -40 $(FUZZ_DIR)/fuzz_$$t.log; exit 1; }; \

@@ -70,17 +70,37 @@ void carmenInput(const std::uint8_t* data, std::size_t size) {
   }
 }
 
-void rawlogInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = writeScratch(data, size, ".rawlog");
-  // A small map limit keeps every input's memory and time small; objects on, as `map` runs.
+/// A small map limit keeps every input's memory and time small; objects on, as `map` runs.
+MapConfig fuzzMapConfig() {
   MapConfig config;
   config.map.resolution = 0.1;
   config.map.max_map_size_m = 40;
+  return config;
+}
+
+void rawlogInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = writeScratch(data, size, ".rawlog");
+  const MapConfig config = fuzzMapConfig();
   try {
     auto source = openScanSource(path, PoseSource::Auto);
     Mapper mapper(config);
     drain(*source, &mapper);
   } catch (const std::exception&) {
+  }
+}
+
+void bagInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = writeScratch(data, size, ".bag");
+  const MapConfig config = fuzzMapConfig();
+  for (const PoseSource poses : {PoseSource::Auto, PoseSource::Fixed}) {
+    try {
+      InputOptions options;
+      options.poses = poses;
+      auto source = openScanSource(path, options);
+      Mapper mapper(config);
+      drain(*source, &mapper);
+    } catch (const std::exception&) {
+    }
   }
 }
 

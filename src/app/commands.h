@@ -20,6 +20,7 @@ using Args = std::vector<std::string>;
 int runMap(const Args& args);
 int runSimulate(const Args& args);
 int runImportCarmen(const Args& args);
+int runImportBag(const Args& args);
 int runEval(const Args& args);
 int runConfig(const Args& args);
 

@@ -17,6 +17,7 @@
 
 #include "commands.h"
 #include "dynamap/input/carmen_reader.h"
+#include "import_output.h"
 
 namespace dynamap::app {
 
@@ -28,16 +29,6 @@ struct ImportArgs {
   std::string input, output;
   CarmenOptions carmen;
 };
-
-/// <out without .gz and .rawlog>.gt.txt: where the rawlog reader looks for ground truth.
-std::string groundTruthPath(std::string out) {
-  for (const std::string ext : {".gz", ".rawlog"}) {
-    if (out.size() > ext.size() && out.compare(out.size() - ext.size(), ext.size(), ext) == 0) {
-      out.resize(out.size() - ext.size());
-    }
-  }
-  return out + ".gt.txt";
-}
 
 po::options_description importOptions() {
   po::options_description o("dynamap import-carmen IN.log[.gz] --out OUT.rawlog [options]");
@@ -96,55 +87,8 @@ ImportArgs parseImportArgs(const Args& args, bool& help) {
   return a;
 }
 
-/// The output files under temporary names, renamed into place only when complete.
-class ImportOutput {
- public:
-  explicit ImportOutput(const std::string& rawlog) : rawlog_(rawlog), gt_(groundTruthPath(rawlog)) {
-    if (!rawlog_out_.open(tmp(rawlog_))) throw InputError(rawlog_ + ": cannot write");
-    gt_out_ = std::fopen(tmp(gt_).c_str(), "w");
-    if (!gt_out_) throw InputError(gt_ + ": cannot write");
-  }
-  ~ImportOutput() {
-    if (gt_out_) std::fclose(gt_out_);
-    if (!committed_) {
-      rawlog_out_.close();
-      std::error_code ec;
-      std::filesystem::remove(tmp(rawlog_), ec);
-      std::filesystem::remove(tmp(gt_), ec);
-    }
-  }
-
-  void write(const mrpt::serialization::CSerializable& obj) {
-    auto arch = mrpt::serialization::archiveFrom(rawlog_out_);
-    arch << obj;
-  }
-  void writeGroundTruth(double t, const mrpt::poses::CPose2D& p) {
-    std::fprintf(gt_out_, "%.6f %.6f %.6f %.6f\n", t, p.x(), p.y(), p.phi());
-  }
-  void commit() {
-    rawlog_out_.close();
-    const bool gt_ok = std::fclose(gt_out_) == 0;
-    gt_out_ = nullptr;
-    if (!gt_ok) throw InputError(gt_ + ": write error");
-    std::filesystem::rename(tmp(rawlog_), rawlog_);
-    std::filesystem::rename(tmp(gt_), gt_);
-    committed_ = true;
-  }
-  const std::string& groundTruthFile() const { return gt_; }
-
- private:
-  static std::string tmp(const std::string& p) { return p + ".part"; }
-  std::string rawlog_, gt_;
-  mrpt::io::CFileGZOutputStream rawlog_out_;
-  std::FILE* gt_out_ = nullptr;
-  bool committed_ = false;
-};
-
 mrpt::obs::CObservationOdometry odometryObservation(const CarmenEvent& e) {
-  mrpt::obs::CObservationOdometry odo;
-  odo.sensorLabel = "ODOMETRY";
-  odo.timestamp = mrpt::Clock::fromDouble(e.t);
-  odo.odometry = *e.odometry;
+  mrpt::obs::CObservationOdometry odo = odometryAt(e.t, *e.odometry);
   if (e.kind == CarmenEvent::Kind::Odometry) {
     odo.hasVelocities = true;
     odo.velocityLocal = mrpt::math::TTwist2D(e.tv, 0, e.rv);
@@ -153,11 +97,7 @@ mrpt::obs::CObservationOdometry odometryObservation(const CarmenEvent& e) {
 }
 
 mrpt::obs::CObservationRobotPose groundTruthObservation(const CarmenEvent& e) {
-  mrpt::obs::CObservationRobotPose gt;
-  gt.sensorLabel = "GT";
-  gt.timestamp = mrpt::Clock::fromDouble(e.t);
-  gt.pose.mean = mrpt::poses::CPose3D(e.pose);
-  return gt;
+  return groundTruthAt(e.t, e.pose);
 }
 
 /// What the summary reports beyond the reader's own counts.

@@ -22,6 +22,8 @@ const Command kCommands[] = {
      dynamap::app::runSimulate},
     {"import-carmen", "convert a CARMEN log (.log[.gz]) to an MRPT rawlog with its timestamps",
      dynamap::app::runImportCarmen},
+    {"import-bag", "convert a ROS 1 bag (.bag: LaserScan, tf, odometry) to an MRPT rawlog",
+     dynamap::app::runImportBag},
     {"eval", "score a map result against a scenario's ground truth (paper's Table 3, SA/DA)",
      dynamap::app::runEval},
     {"config", "print the built-in configuration (an .ini to start from) or its table of keys",

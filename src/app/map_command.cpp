@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "dynamap/base/ini.h"
+#include "dynamap/input/fixed_pose.h"
 #include "dynamap/outputs/map_job.h"
 
 namespace dynamap::app {
@@ -16,17 +17,21 @@ namespace {
 
 const char* const kUsage =
     "usage: dynamap map --input FILE [--config FILE] [--out DIR] [--poses SOURCE]\n"
-    "                   [--frames-every N] [--no-baseline] [--skip-bad-lines] [--fov DEG]\n"
-    "                   [--verbose]\n\n"
-    "Builds the static map S and the dynamic map D from a log (MRPT rawlog, MRPT simplemap or\n"
-    "CARMEN log, plain or gz, told apart by content) and writes into DIR: static.png,\n"
-    "dynamic.png, overlay.png, static.gridmap.gz and dynamic.gridmap.gz (MRPT),\n"
+    "                   [--fixed-pose \"X Y PHI\"] [--frames-every N] [--no-baseline]\n"
+    "                   [--skip-bad-lines] [--fov DEG] [--scan-topic T] [--odom-topic T]\n"
+    "                   [--odom-frame F] [--base-frame F] [--gt-frame F] [--verbose]\n\n"
+    "Builds the static map S and the dynamic map D from a log (MRPT rawlog, MRPT simplemap,\n"
+    "CARMEN log, plain or gz, or ROS 1 bag, told apart by content) and writes into DIR:\n"
+    "static.png, dynamic.png, overlay.png, static.gridmap.gz and dynamic.gridmap.gz (MRPT),\n"
     "static.pgm + static.yaml (ROS map_server), config.ini (the effective configuration),\n"
     "summary.json, poses.txt (timestamp x y phi: the pose each scan was mapped at), the\n"
     "object table: objects.csv, events.csv, tracks.csv, and mrpt_plain.png:\n"
     "the plain MRPT grid of the same scans, compared with S in summary.json.\n"
     "--frames-every N also writes frames/NNNNNN.png (the overlay after scan N, 2N, ...) and,\n"
-    "when ffmpeg is installed, timelapse.mp4.";
+    "when ffmpeg is installed, timelapse.mp4.\n"
+    "A ROS bag: sensor_msgs/LaserScan scans; odometry odom -> base_link from /tf (or\n"
+    "nav_msgs/Odometry on --odom-topic), ground truth map -> base_link, the laser's mount\n"
+    "base_link -> its frame from /tf_static; --poses fixed for a robot standing still.";
 
 // One line for the scans skipped (by reason, as in summary.json), one for timestamps that went
 // backwards.
@@ -50,18 +55,51 @@ void warnAboutSkips(const RunCounts& counts, const SourceStats& stats) {
   }
 }
 
+// The ROS bag options of the command line.
+BagOptions bagOptions(const po::variables_map& vm) {
+  BagOptions bag;
+  if (vm.count("scan-topic")) bag.scan_topic = vm["scan-topic"].as<std::string>();
+  if (vm.count("odom-topic")) bag.odom_topic = vm["odom-topic"].as<std::string>();
+  bag.odom_frame = vm["odom-frame"].as<std::string>();
+  bag.base_frame = vm["base-frame"].as<std::string>();
+  bag.gt_frame = vm["gt-frame"].as<std::string>();
+  return bag;
+}
+
+// --poses and --fixed-pose over the configuration's [input].
+void applyPoseOptions(const po::variables_map& vm, MapConfig& config) {
+  if (vm.count("poses")) {
+    try {
+      config.poses = parsePoseSource(vm["poses"].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--poses: ") + e.what());
+    }
+  }
+  if (vm.count("fixed-pose")) {
+    try {
+      config.fixed_pose = parseFixedPose(vm["fixed-pose"].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--fixed-pose: ") + e.what());
+    }
+  }
+}
+
 // The command line as a job; false after --help.
 bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
   po::options_description opts("options");
-  opts.add_options()("help,h", "explain the options")("input,i",
-                                                      po::value<std::string>()->required(),
-                                                      "the log to map (rawlog, simplemap, CARMEN)")(
+  opts.add_options()("help,h", "explain the options")(
+      "input,i", po::value<std::string>()->required(),
+      "the log to map (rawlog, simplemap, CARMEN, ROS bag)")(
       "config,c", po::value<std::string>(),
       "the .ini configuration (default: built-in defaults = config/default.ini)")(
       "out,o", po::value<std::string>()->default_value("out"), "output directory (created)")(
       "poses", po::value<std::string>(),
-      "pose source: auto | simplemap | ground_truth | odometry | scan_matching\n"
-      "(odometry corrected against the static map; overrides [input] poses)")(
+      "pose source: auto | simplemap | ground_truth | odometry | scan_matching "
+      "(odometry corrected against the static map) | fixed (one pose for every scan: a "
+      "robot standing still); overrides [input] poses")(
+      "fixed-pose", po::value<std::string>(),
+      "\"X Y PHI\" [m m rad]: the pose of every scan with --poses fixed (default 0 0 0; "
+      "overrides [input] fixed_pose)")(
       "no-baseline",
       "do not build the plain MRPT grid of the same scans (mrpt_plain.png and the\n"
       "comparison in summary.json); saves its time")(
@@ -70,6 +108,16 @@ bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
       "of stopping at the first")(
       "fov", po::value<double>(),
       "CARMEN input: field of view of every laser line [deg], overriding the log")(
+      "scan-topic", po::value<std::string>(),
+      "ROS bag input: the sensor_msgs/LaserScan topic (default: the bag's only one)")(
+      "odom-topic", po::value<std::string>(),
+      "ROS bag input: odometry from this nav_msgs/Odometry topic instead of /tf")(
+      "odom-frame", po::value<std::string>()->default_value("odom"),
+      "ROS bag input: the odometry frame of /tf (odometry: odom-frame -> base-frame)")(
+      "base-frame", po::value<std::string>()->default_value("base_link"),
+      "ROS bag input: the robot's frame (the laser's mount: base-frame -> scan frame)")(
+      "gt-frame", po::value<std::string>()->default_value("map"),
+      "ROS bag input: ground truth is this frame's transform to base-frame in /tf")(
       "frames-every", po::value<long>(),
       "write frames/NNNNNN.png every N scans (and timelapse.mp4 with ffmpeg)")(
       "verbose,v", "print progress and a summary even when not on a terminal");
@@ -77,13 +125,8 @@ bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
   if (!parseArgs(args, opts, {}, vm, kUsage)) return false;
   if (vm.count("config"))
     job.config = MapConfig::load(IniFile::fromFile(vm["config"].as<std::string>()));
-  if (vm.count("poses")) {
-    try {
-      job.config.poses = parsePoseSource(vm["poses"].as<std::string>());
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--poses: ") + e.what());
-    }
-  }
+  applyPoseOptions(vm, job.config);
+  job.bag = bagOptions(vm);
   job.input = vm["input"].as<std::string>();
   job.out_dir = vm["out"].as<std::string>();
   job.baseline = vm.count("no-baseline") == 0;

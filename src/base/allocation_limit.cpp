@@ -67,6 +67,10 @@ void* aligned_malloc(std::size_t size, std::size_t alignment) {
 
 namespace dynamap {
 
+std::size_t currentAllocationLimit() {
+  return t_allocation_limit;
+}
+
 AllocationLimit::AllocationLimit(std::size_t max_bytes) : saved_(t_allocation_limit) {
   t_allocation_limit = max_bytes;
 }

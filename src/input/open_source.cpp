@@ -1,22 +1,33 @@
 #include "dynamap/input/open_source.h"
 
+#include "dynamap/input/fixed_pose.h"
 #include "dynamap/input/mrpt_records.h"
 #include "dynamap/input/pose_file.h"
 #include "dynamap/input/rawlog_source.h"
 #include "dynamap/input/simplemap_source.h"
 
 namespace dynamap {
+namespace {
 
-std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource source,
-                                           const CarmenOptions* carmen) {
-  if (!fileExists(path)) throw InputError(path + ": no such file");
-  if (source == PoseSource::ScanMatching) source = PoseSource::Odometry;  // corrected by Mapper
-  if (looksLikeCarmen(path))
-    return openCarmenSource(path, source, carmen ? *carmen : CarmenOptions{});
+std::unique_ptr<ScanSource> openBag(const std::string& path, PoseSource source,
+                                    const BagOptions& options) {
+#ifdef DYNAMAP_HAVE_ROSBAG
+  return openBagSource(path, source, options);
+#else
+  (void)source;
+  (void)options;
+  throw InputError(path +
+                   ": a ROS bag, but this dynamap was built without ROS bag support "
+                   "(-DDYNAMAP_ROSBAG=OFF); rebuild with -DDYNAMAP_ROSBAG=ON");
+#endif
+}
+
+std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource source) {
   const std::string head = fileHead(path, 256);
   if (head.empty()) throw InputError(path + ": empty file");
   if (head.find("CSimpleMap") != std::string::npos) {
-    if (source != PoseSource::Auto && source != PoseSource::Simplemap) {
+    if (source != PoseSource::Auto && source != PoseSource::Simplemap &&
+        source != PoseSource::Fixed) {
       throw InputError(path + ": a simplemap only carries simplemap poses (asked for " +
                        toString(source) + ")");
     }
@@ -25,7 +36,7 @@ std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource s
   if (head.find("CSensoryFrame") == std::string::npos &&
       head.find("CActionCollection") == std::string::npos &&
       head.find("CObservation") == std::string::npos) {
-    throw InputError(path + ": not an MRPT rawlog, simplemap or CARMEN log");
+    throw InputError(path + ": not an MRPT rawlog, simplemap, CARMEN log or ROS bag");
   }
   if (source == PoseSource::Simplemap) {
     throw InputError(path + ": pose source simplemap needs a .simplemap file");
@@ -37,10 +48,38 @@ std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource s
     } else if (peek.odometry) {
       source = PoseSource::Odometry;
     } else {
-      throw InputError(path + ": no poses found (no ground truth, no odometry)");
+      throw InputError(path +
+                       ": no poses found (no ground truth, no odometry; --poses fixed maps a "
+                       "robot that stands still)");
     }
   }
   return openRawlogSource(path, source);
+}
+
+}  // namespace
+
+std::unique_ptr<ScanSource> openScanSource(const std::string& path, const InputOptions& options) {
+  if (!fileExists(path)) throw InputError(path + ": no such file");
+  PoseSource source = options.poses;
+  if (source == PoseSource::ScanMatching) source = PoseSource::Odometry;  // corrected by Mapper
+  std::unique_ptr<ScanSource> inner;
+  if (looksLikeRosBag(path)) {
+    inner = openBag(path, source, options.bag);
+  } else if (looksLikeCarmen(path)) {
+    inner = openCarmenSource(path, source, options.carmen);
+  } else {
+    inner = openMrptLog(path, source);
+  }
+  if (source == PoseSource::Fixed) return withFixedPose(std::move(inner), options.fixed_pose);
+  return inner;
+}
+
+std::unique_ptr<ScanSource> openScanSource(const std::string& path, PoseSource source,
+                                           const CarmenOptions* carmen) {
+  InputOptions options;
+  options.poses = source;
+  if (carmen) options.carmen = *carmen;
+  return openScanSource(path, options);
 }
 
 }  // namespace dynamap

@@ -169,8 +169,9 @@ class RawlogSource : public ScanSource {
   void resolvePending(bool final) {
     while (!pending_.empty()) {
       Pending& p = pending_.front();
-      mrpt::poses::CPose2D pose;
-      const PoseTrack::Lookup r = poses_.at(p.t, pose, final);
+      mrpt::poses::CPose2D pose;  // the origin under Fixed: withFixedPose sets the pose
+      const PoseTrack::Lookup r =
+          source_ == PoseSource::Fixed ? PoseTrack::Lookup::kFound : poses_.at(p.t, pose, final);
       if (r == PoseTrack::Lookup::kLater) return;  // wait for a later pose
       if (r != PoseTrack::Lookup::kFound) {
         if (final && !fault_.empty()) {  // the fault, not the pose, is what went wrong

@@ -27,8 +27,9 @@ PoseSource parsePoseSource(const std::string& name) {
   if (name == "ground_truth") return PoseSource::GroundTruth;
   if (name == "odometry") return PoseSource::Odometry;
   if (name == "scan_matching") return PoseSource::ScanMatching;
+  if (name == "fixed") return PoseSource::Fixed;
   throw std::invalid_argument("unknown pose source '" + name +
-                              "' (auto, simplemap, ground_truth, odometry, scan_matching)");
+                              "' (auto, simplemap, ground_truth, odometry, scan_matching, fixed)");
 }
 
 std::string toString(PoseSource source) {
@@ -43,6 +44,8 @@ std::string toString(PoseSource source) {
       return "odometry";
     case PoseSource::ScanMatching:
       return "scan_matching";
+    case PoseSource::Fixed:
+      return "fixed";
   }
   return "?";
 }

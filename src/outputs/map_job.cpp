@@ -78,7 +78,12 @@ void afterScan(const MapJob& job, const Mapper& mapper, Writers& w, const ScanRe
 
 MapJobResult runMapJob(const MapJob& job) {
   prepareOutputDir(job.out_dir);  // before any work: an unwritable directory fails fast
-  auto source = openScanSource(job.input, job.config.poses, &job.carmen);
+  InputOptions input;
+  input.poses = job.config.poses;
+  input.fixed_pose = job.config.fixed_pose;
+  input.carmen = job.carmen;
+  input.bag = job.bag;
+  auto source = openScanSource(job.input, input);
   Mapper mapper(job.config);
   Writers w(job);
   const auto start = Clock::now();

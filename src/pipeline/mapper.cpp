@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "dynamap/base/ini.h"
+#include "dynamap/input/fixed_pose.h"
 
 namespace dynamap {
 
@@ -19,12 +20,17 @@ MapConfig MapConfig::load(const IniFile& ini) {
   c.insertion.load(ini);
   c.objects.load(ini);
   c.scan_matching.load(ini);
-  ini.requireKnownKeys("input", {"poses"});
+  ini.requireKnownKeys("input", {"poses", "fixed_pose"});
   const std::string poses = ini.getString("input", "poses", "auto");
   try {
     c.poses = parsePoseSource(poses);
   } catch (const std::invalid_argument& e) {
     ini.fail("input", "poses", e.what());
+  }
+  try {
+    c.fixed_pose = parseFixedPose(ini.getString("input", "fixed_pose", "0 0 0"));
+  } catch (const std::invalid_argument& e) {
+    ini.fail("input", "fixed_pose", e.what());
   }
   return c;
 }
@@ -33,7 +39,12 @@ void MapConfig::writeIni(std::ostream& out) const {
   out << "; the effective configuration of this run (reload it with --config)\n\n";
   out << "[input]\n"
       << "poses = " << toString(poses)
-      << "  ; auto | simplemap | ground_truth | odometry | scan_matching\n\n";
+      << "  ; auto | simplemap | ground_truth | odometry | scan_matching\n";
+  // Only a fixed-pose run has a fixed pose to reproduce; every other config.ini stays as it was.
+  if (poses == PoseSource::Fixed) {
+    out << "fixed_pose = " << formatFixedPose(fixed_pose) << "  ; [m m rad] x y phi\n";
+  }
+  out << "\n";
   map.writeIni(out);
   out << "\n";
   insertion.writeIni(out);
@@ -45,9 +56,11 @@ void MapConfig::writeIni(std::ostream& out) const {
 
 std::vector<OptionDoc> MapConfig::describe() {
   const MapConfig defaults;
-  std::vector<OptionDoc> docs = {{"input", "poses", toString(defaults.poses), "",
-                                  "where each scan's robot pose comes from",
-                                  "auto, simplemap, ground_truth, odometry, scan_matching"}};
+  std::vector<OptionDoc> docs = {
+      {"input", "poses", toString(defaults.poses), "", "where each scan's robot pose comes from",
+       "auto, simplemap, ground_truth, odometry, scan_matching, fixed"},
+      {"input", "fixed_pose", formatFixedPose(defaults.fixed_pose), "",
+       "x y phi [m m rad]: the pose of every scan with poses = fixed", "three finite numbers"}};
   for (auto&& more : {DynamicMapOptions::table().describe(defaults.map),
                       InsertionOptions::table().describe(defaults.insertion),
                       ObjectOptions::table().describe(defaults.objects),

@@ -177,7 +177,7 @@ TEST(Faults, EmptyFilesAndFilesThatAreNoLogAreErrorsNamingTheFile) {
   EXPECT_EQ(out, "dynamap map: " + dir + "/empty.rawlog: empty file\n");
   EXPECT_EQ(map("--input " + dir + "/picture.rawlog --out " + dir + "/o2", &out), 1);
   EXPECT_EQ(out, "dynamap map: " + dir +
-                     "/picture.rawlog: not an MRPT rawlog, simplemap or CARMEN log\n");
+                     "/picture.rawlog: not an MRPT rawlog, simplemap, CARMEN log or ROS bag\n");
   EXPECT_FALSE(fs::exists(dir + "/o2/summary.json"));
 }
 
@@ -405,7 +405,8 @@ TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
   const std::vector<std::pair<std::string, void (*)(const std::uint8_t*, std::size_t)>> targets = {
       {"scenario", fuzz::scenarioInput},
       {"carmen", fuzz::carmenInput},
-      {"rawlog", fuzz::rawlogInput}};
+      {"rawlog", fuzz::rawlogInput},
+      {"bag", fuzz::bagInput}};
   std::size_t files = 0;
   for (const auto& [name, entry] : targets) {
     const fs::path dir = fs::path(kSrc) / "tests/fuzz_regressions" / name;

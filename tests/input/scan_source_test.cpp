@@ -200,7 +200,7 @@ TEST(ScanSource, NotALogIsAnErrorNamingTheFile) {
   const std::string dir = test::tempDir("src");
   std::ofstream(dir + "/junk.bin", std::ios::binary) << std::string(300, '\x07');
   EXPECT_EQ(inputError([&] { openScanSource(dir + "/junk.bin", PoseSource::Auto); }),
-            dir + "/junk.bin: not an MRPT rawlog, simplemap or CARMEN log");
+            dir + "/junk.bin: not an MRPT rawlog, simplemap, CARMEN log or ROS bag");
   std::ofstream(dir + "/empty.rawlog");
   EXPECT_EQ(inputError([&] { openScanSource(dir + "/empty.rawlog", PoseSource::Auto); }),
             dir + "/empty.rawlog: empty file");
@@ -208,9 +208,23 @@ TEST(ScanSource, NotALogIsAnErrorNamingTheFile) {
             dir + "/none.rawlog: no such file");
 }
 
+// Built with -DDYNAMAP_ROSBAG=OFF, a bag is still told by its first line, and refused by name.
+TEST(ScanSource, ABagInABuildWithoutRosbagIsAnErrorSayingSo) {
+#ifdef DYNAMAP_HAVE_ROSBAG
+  GTEST_SKIP() << "this build reads bags: bag_source_test covers them";
+#else
+  const std::string dir = test::tempDir("src");
+  std::ofstream(dir + "/run.bag", std::ios::binary) << "#ROSBAG V2.0\n" << std::string(64, '\0');
+  EXPECT_EQ(inputError([&] { openScanSource(dir + "/run.bag", PoseSource::Auto); }),
+            dir +
+                "/run.bag: a ROS bag, but this dynamap was built without ROS bag support "
+                "(-DDYNAMAP_ROSBAG=OFF); rebuild with -DDYNAMAP_ROSBAG=ON");
+#endif
+}
+
 TEST(ScanSource, PoseSourceNames) {
-  for (auto s :
-       {PoseSource::Auto, PoseSource::Simplemap, PoseSource::GroundTruth, PoseSource::Odometry}) {
+  for (auto s : {PoseSource::Auto, PoseSource::Simplemap, PoseSource::GroundTruth,
+                 PoseSource::Odometry, PoseSource::ScanMatching, PoseSource::Fixed}) {
     EXPECT_EQ(parsePoseSource(toString(s)), s);
   }
   EXPECT_THROW(parsePoseSource("gps"), std::invalid_argument);

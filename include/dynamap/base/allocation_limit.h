@@ -18,6 +18,10 @@ namespace dynamap {
 /// Far above any real record's largest buffer (a laser scan of a million beams takes 4 MB).
 constexpr std::size_t kMaxRecordAllocation = std::size_t{256} << 20;
 
+/// The innermost live limit of the calling thread in bytes, 0 when none: for the replacements of
+/// other libraries' allocators (rosbag's Buffer) that apply it too.
+std::size_t currentAllocationLimit();
+
 class AllocationLimit {
  public:
   /// While this object lives, single allocations above `max_bytes` on this thread throw

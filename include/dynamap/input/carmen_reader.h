@@ -177,7 +177,8 @@ bool looksLikeCarmen(const std::string& path);
 
 /// A ScanSource over a CARMEN log. Auto and GroundTruth: the laser line's pose; Odometry: the odom
 /// fields of FLASER/RLASER, or the latest ODOM line for ROBOTLASER1 (a scan with none before it
-/// is an InputError naming its line); Simplemap: InputError. ScanRecord::index counts scans from 0.
+/// is an InputError naming its line); Fixed: the line's pose (withFixedPose replaces it);
+/// Simplemap: InputError. ScanRecord::index counts scans from 0.
 std::unique_ptr<ScanSource> openCarmenSource(const std::string& path, PoseSource source,
                                              const CarmenOptions& options);
 

@@ -19,7 +19,7 @@ RawlogPeek peekRawlog(const std::string& path);
 
 /// A rawlog's scans with poses from `source` (GroundTruth: CObservationRobotPose, else the
 /// companion <log>.gt.txt; Odometry: CObservationOdometry, else integrated actions), each looked
-/// up by the scan's time. A scan without a pose is an InputError naming it; a record cut off or
+/// up by the scan's time; Fixed: every scan at the origin, the log's poses unread. A scan without a pose is an InputError naming it; a record cut off or
 /// corrupt is an InputError naming its index and byte offset, after every scan before it.
 std::unique_ptr<ScanSource> openRawlogSource(const std::string& path, PoseSource source);
 

@@ -2,7 +2,7 @@
 // ScanSource: a stream of (timestamp, pose, scan) read from a log one record at a time.
 //
 // Readers: MRPT rawlogs (action/sensory-frame pairs or observations only, plain or gz), MRPT
-// simplemaps (.simplemap[.gz]) and CARMEN logs. The pose of each scan comes from the source the
+// simplemaps (.simplemap[.gz]), CARMEN logs and ROS 1 bags. The pose of each scan comes from the source the
 // user picks (PoseSource); a scan without a pose under that source is an error naming the scan.
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -25,10 +25,13 @@ enum class PoseSource {
   /// Odometry corrected by matching each scan against the static map (ScanMatcher). A source
   /// opened with it reads odometry; the Mapper does the matching.
   ScanMatching,
+  /// One pose for every scan (a standing robot): InputOptions::fixed_pose. Every format offers
+  /// it; the log's own poses, if any, are ignored.
+  Fixed,
 };
 
-/// "auto", "simplemap", "ground_truth", "odometry", "scan_matching"; throws std::invalid_argument
-/// otherwise.
+/// "auto", "simplemap", "ground_truth", "odometry", "scan_matching", "fixed"; throws
+/// std::invalid_argument otherwise.
 PoseSource parsePoseSource(const std::string& name);
 std::string toString(PoseSource source);
 

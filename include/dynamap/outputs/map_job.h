@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "dynamap/input/bag_source.h"
 #include "dynamap/input/carmen_reader.h"
 #include "dynamap/mapping/plain_grid.h"
 #include "dynamap/pipeline/mapper.h"
@@ -20,6 +21,7 @@ struct MapJob {
   std::string out_dir;  ///< created if needed; must be writable (checked before any work)
   MapConfig config;
   CarmenOptions carmen;   ///< for CARMEN input
+  BagOptions bag;         ///< for ROS bag input
   bool baseline = true;   ///< also build the plain MRPT grid (mrpt_plain.png, summary.json)
   long frames_every = 0;  ///< > 0: frames/NNNNNN.png every this many scans, and timelapse.mp4
   /// Called after every scan with the share of the input read (negative: unknown) and the

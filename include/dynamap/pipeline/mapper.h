@@ -27,6 +27,7 @@ struct MapConfig {
   ObjectOptions objects;
   ScanMatchOptions scan_matching;       ///< used when poses is ScanMatching
   PoseSource poses = PoseSource::Auto;  ///< [input] poses
+  mrpt::poses::CPose2D fixed_pose;      ///< [input] fixed_pose: every scan's pose when Fixed
 
   /// Strict: unknown sections or keys, bad values: ConfigError naming file, section and key.
   static MapConfig load(const IniFile& ini);

@@ -1,0 +1,729 @@
+#include "dynamap/input/bag_source.h"
+
+#include <dlfcn.h>
+#include <mrpt/core/Clock.h>
+#include <mrpt/poses/CPose3D.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/header.h>
+#include <rosbag/bag.h>
+#include <rosbag/buffer.h>
+#include <rosbag/exceptions.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/LaserScan.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <map>
+#include <set>
+
+#include "bag_salvage.h"
+#include "dynamap/base/allocation_limit.h"
+#include "dynamap/base/pose_track.h"
+
+namespace dynamap {
+namespace {
+
+using mrpt::obs::CObservation2DRangeScan;
+using mrpt::poses::CPose2D;
+
+constexpr double kHistory_s = 10.0;            // transforms kept before the oldest scan waiting
+constexpr std::size_t kMaxPending = 10000;     // scans waiting for later transforms
+constexpr std::size_t kMaxFrames = 1000;       // distinct child frames in the tf tree
+constexpr std::size_t kMaxChain = 64;          // frames between a frame and its tree's root
+constexpr std::size_t kPeekTfMessages = 2000;  // /tf messages read to learn the frames
+constexpr std::size_t kMaxBeams = 1000000;
+const std::vector<std::string> kTfTopics = {"/tf", "tf"};
+const std::vector<std::string> kTfStaticTopics = {"/tf_static", "tf_static"};
+const char* const kLaserScanType = "sensor_msgs/LaserScan";
+const char* const kOdometryType = "nav_msgs/Odometry";
+
+/// tf frame names with and without tf1's leading slash are the same frame.
+std::string frameName(const std::string& f) {
+  return !f.empty() && f[0] == '/' ? f.substr(1) : f;
+}
+
+/// The yaw of a rotation; NaN when the quaternion is not finite or far from unit length.
+double yawOf(const geometry_msgs::Quaternion& q) {
+  const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+  if (!std::isfinite(n2) || std::abs(n2 - 1.0) > 0.01) return NAN;
+  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+}
+
+std::optional<CPose2D> pose2D(double x, double y, const geometry_msgs::Quaternion& q) {
+  const double yaw = yawOf(q);
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(yaw)) return std::nullopt;
+  return CPose2D(x, y, yaw);
+}
+
+/// A 2D tf tree: each child frame's pose in its parent, static or a timed track.
+class TfTree {
+ public:
+  using Lookup = PoseTrack::Lookup;
+
+  /// False (the transform is dropped) when it would add a frame past kMaxFrames.
+  bool add(const std::string& parent, const std::string& child, double t, const CPose2D& pose,
+           bool is_static) {
+    auto it = edges_.find(child);
+    if (it == edges_.end()) {
+      if (edges_.size() >= kMaxFrames) return false;
+      it = edges_.emplace(child, Edge{}).first;
+    }
+    Edge& e = it->second;
+    if (e.parent != parent) e.track = PoseTrack();  // re-parented: the old samples are moot
+    e.parent = parent;
+    e.is_static = is_static;
+    if (is_static)
+      e.fixed = pose;
+    else
+      e.track.add(t, pose);
+    return true;
+  }
+
+  bool knows(const std::string& frame) const {
+    if (edges_.count(frame)) return true;
+    for (const auto& kv : edges_) {
+      if (kv.second.parent == frame) return true;
+    }
+    return false;
+  }
+
+  /// The pose of `source` in `target` at time t (kLater: a later transform may still make it
+  /// known; with `complete` none will).
+  Lookup lookup(const std::string& target, const std::string& source, double t, bool complete,
+                CPose2D& out) const {
+    const std::vector<std::string> up_s = chain(source), up_t = chain(target);
+    const auto common = std::find_first_of(up_s.begin(), up_s.end(), up_t.begin(), up_t.end());
+    // Frames not (yet) connected: a transform joining them may still come.
+    if (common == up_s.end()) return complete ? Lookup::kMissing : Lookup::kLater;
+    CPose2D in_common_s, in_common_t;
+    const Lookup a = poseIn(source, *common, t, complete, in_common_s);
+    if (a != Lookup::kFound) return a;
+    const Lookup b = poseIn(target, *common, t, complete, in_common_t);
+    if (b != Lookup::kFound) return b;
+    out = in_common_s - in_common_t;
+    return Lookup::kFound;
+  }
+
+  std::size_t samples() const {
+    std::size_t n = 0;
+    for (const auto& kv : edges_) n += kv.second.track.size();
+    return n;
+  }
+
+  /// Forgets timed samples no lookup at time >= t needs.
+  void forgetBefore(double t) {
+    for (auto& kv : edges_) kv.second.track.forgetBefore(t);
+  }
+
+ private:
+  struct Edge {
+    std::string parent;
+    bool is_static = false;
+    CPose2D fixed;
+    PoseTrack track;
+  };
+
+  /// `frame`, its parent, ... up to its root (bounded: a cycle in a corrupt bag ends it).
+  std::vector<std::string> chain(const std::string& frame) const {
+    std::vector<std::string> out{frame};
+    for (auto it = edges_.find(frame); it != edges_.end() && out.size() < kMaxChain;
+         it = edges_.find(out.back())) {
+      if (std::find(out.begin(), out.end(), it->second.parent) != out.end()) break;
+      out.push_back(it->second.parent);
+    }
+    return out;
+  }
+
+  /// The pose of `frame` in its ancestor `ancestor`, composed edge by edge.
+  Lookup poseIn(const std::string& frame, const std::string& ancestor, double t, bool complete,
+                CPose2D& out) const {
+    out = CPose2D();
+    for (std::string f = frame; f != ancestor;) {
+      const Edge& e = edges_.at(f);
+      CPose2D p = e.fixed;
+      if (!e.is_static) {
+        const Lookup r = e.track.at(t, p, complete);
+        if (r != Lookup::kFound) return r;
+      }
+      out = p + out;
+      f = e.parent;
+    }
+    return Lookup::kFound;
+  }
+
+  std::map<std::string, Edge> edges_;  // by child frame
+};
+
+/// A LaserScan as an MRPT scan, its beams' middle angle in `centre` (the mount is added once
+/// known); null with `bad` saying why when its geometry cannot be mapped.
+CObservation2DRangeScan::Ptr convertScan(const sensor_msgs::LaserScan& m, double& centre,
+                                         std::string& bad) {
+  const std::size_t n = m.ranges.size();
+  if (n == 0) {
+    bad = "scan with no beams";
+    return nullptr;
+  }
+  if (n > kMaxBeams) {
+    bad = "scan with more than 1,000,000 beams";
+    return nullptr;
+  }
+  const double inc = m.angle_increment, lo = m.range_min, hi = m.range_max;
+  if (!std::isfinite(m.angle_min) || !std::isfinite(inc) || (n > 1 && inc == 0) ||
+      std::abs(inc) * static_cast<double>(n - 1) > 2 * M_PI + 1e-6) {
+    bad = "scan with bad beam angles (angle_min, angle_increment)";
+    return nullptr;
+  }
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > 0) || lo > hi) {
+    bad = "scan with bad range_min / range_max";
+    return nullptr;
+  }
+  // MRPT spreads the beams evenly over `aperture`, symmetric about the sensor's x axis; ROS's
+  // beam i lies at angle_min + i * angle_increment, counter-clockwise when the increment is
+  // positive.
+  centre = m.angle_min + inc * static_cast<double>(n - 1) / 2;
+  auto scan = std::make_shared<CObservation2DRangeScan>();
+  scan->aperture = static_cast<float>(std::abs(inc) * static_cast<double>(n - 1));
+  scan->rightToLeft = inc >= 0;
+  scan->maxRange = static_cast<float>(hi);
+  scan->sensorLabel = m.header.frame_id.empty() ? "LASER" : m.header.frame_id;
+  scan->resizeScan(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float r = m.ranges[i];
+    scan->setScanRange(i, r);
+    scan->setScanRangeValidity(i, std::isfinite(r) && r >= lo && r <= hi);
+  }
+  return scan;
+}
+
+std::string topicList(const std::vector<std::pair<std::string, std::string>>& topics) {
+  std::string out;
+  for (const auto& [topic, type] : topics) {
+    out += (out.empty() ? "" : ", ") + topic + " (" + type + ")";
+  }
+  return out.empty() ? "none" : out;
+}
+
+/// The messages of some topics, in order: through rosbag's View when the bag has its index, else
+/// through BagSalvage in file order (a bag cut off or never closed).
+class MessageCursor {
+ public:
+  MessageCursor(rosbag::Bag& bag, const std::vector<std::string>& topics)
+      : view_(std::make_unique<rosbag::View>(bag, rosbag::TopicQuery(topics))),
+        size_(view_->size()) {}
+  MessageCursor(const std::string& path, const std::vector<std::string>& topics)
+      : salvage_(std::make_unique<bag::BagSalvage>(path)), topics_(topics) {}
+
+  /// Moves to the next message (the first, on the first call); false at the end.
+  bool next() {
+    if (salvage_) {
+      while (salvage_->next()) {
+        if (topics_.empty() || std::count(topics_.begin(), topics_.end(), salvage_->topic())) {
+          return true;
+        }
+      }
+      return false;
+    }
+    if (started_)
+      ++it_;
+    else
+      it_ = view_->begin();
+    started_ = true;
+    done_ += 1;
+    return it_ != view_->end();
+  }
+  const std::string& topic() const { return salvage_ ? salvage_->topic() : it_->getTopic(); }
+  double time() const { return salvage_ ? salvage_->time() : it_->getTime().toSec(); }
+  template <class T>
+  boost::shared_ptr<T> as() const {
+    return salvage_ ? salvage_->as<T>() : it_->instantiate<T>();
+  }
+  double fractionRead() const {
+    if (salvage_) return salvage_->fractionRead();
+    return size_ > 0 ? std::min(1.0, (done_ - 1) / size_) : 1.0;
+  }
+  /// Salvage only: where and why the readable part ended, and the topics seen.
+  std::string fault() const { return salvage_ ? salvage_->fault() : ""; }
+  std::vector<std::pair<std::string, std::string>> salvagedTopics() const {
+    return salvage_->topics();
+  }
+
+ private:
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+  double size_ = 0, done_ = 0;
+  bool started_ = false;
+  std::unique_ptr<bag::BagSalvage> salvage_;
+  std::vector<std::string> topics_;
+};
+
+}  // namespace
+
+// --- the reader --------------------------------------------------------------------------------
+
+struct BagReader::Impl {
+  struct Pending {
+    std::size_t index;
+    double t;
+    CObservation2DRangeScan::Ptr scan;
+    std::string frame;
+    double centre;
+  };
+  enum class Outcome { kLater, kReady, kSkipped };
+
+  std::string path;
+  BagOptions options;
+  rosbag::Bag bag;
+  bool salvage = false;  // rosbag cannot open it: read what is left in file order
+  BagContents contents;
+  std::unique_ptr<MessageCursor> cursor;  // the scans, /tf and odometry
+  TfTree tree;
+  PoseTrack odom;
+  bool need_odometry = false, need_ground_truth = false;
+  SourceStats stats;
+  std::deque<Pending> pending;
+  std::deque<BagScan> ready;
+  double stream_t = -std::numeric_limits<double>::infinity();  // newest stamp read
+  bool eof = false;
+  std::string fault;
+
+  Impl(const std::string& p, const BagOptions& o) : path(p), options(o) {}
+
+  [[noreturn]] void fail(const std::string& what) const { throw InputError(path + ": " + what); }
+
+  void open();
+  void findTopics();
+  void readStatic();
+  void peekTf();
+  void startView();
+  void readMessage();
+  std::string salvageFault() const;
+  std::unique_ptr<MessageCursor> messages(const std::vector<std::string>& topics) {
+    return salvage ? std::make_unique<MessageCursor>(path, topics)
+                   : std::make_unique<MessageCursor>(bag, topics);
+  }
+  void takeScan(const MessageCursor& m);
+  void takeTf(const tf2_msgs::TFMessage& msg, bool is_static);
+  Outcome resolve(Pending& p, bool complete);
+  void resolvePending(bool final);
+  bool topicExists(const std::string& topic, const char* type) const;
+};
+
+void BagReader::Impl::open() {
+  try {
+    const AllocationLimit limit;
+    bag.open(path, rosbag::bagmode::Read);
+  } catch (const rosbag::BagUnindexedException&) {
+    salvage = true;  // never closed: rosbag needs the index the recorder writes last
+  } catch (const rosbag::BagIOException&) {
+    salvage = true;  // cut off: the index, at the end, is gone
+  } catch (const rosbag::BagFormatException&) {
+    salvage = true;  // an index that is corrupt is as good as none
+  } catch (const std::bad_alloc&) {
+    salvage = true;  // so is one stating a size no real record has
+  } catch (const std::exception& e) {
+    fail(std::string("not a readable ROS bag: ") + e.what());
+  }
+}
+
+bool BagReader::Impl::topicExists(const std::string& topic, const char* type) const {
+  for (const auto& [name, t] : contents.topics) {
+    if (name == topic && t == type) return true;
+  }
+  return false;
+}
+
+void BagReader::Impl::findTopics() {
+  std::set<std::pair<std::string, std::string>> seen;
+  if (salvage) {
+    MessageCursor all(path, {});
+    while (all.next()) {
+    }
+    const auto topics = all.salvagedTopics();
+    seen.insert(topics.begin(), topics.end());
+    if (seen.empty()) {
+      const std::string why = all.fault();
+      fail("not a readable ROS bag: no index and no whole message" +
+           (why.empty() ? std::string() : " (" + why + ")"));
+    }
+  } else {
+    rosbag::View all(bag);
+    for (const rosbag::ConnectionInfo* c : all.getConnections()) {
+      seen.insert({c->topic, c->datatype});
+    }
+  }
+  contents.topics.assign(seen.begin(), seen.end());
+  std::vector<std::string> scans;
+  for (const auto& [topic, type] : contents.topics) {
+    if (type == kLaserScanType) scans.push_back(topic);
+  }
+  if (!options.scan_topic.empty()) {
+    if (!topicExists(options.scan_topic, kLaserScanType)) {
+      fail("no " + std::string(kLaserScanType) + " topic " + options.scan_topic +
+           " (topics: " + topicList(contents.topics) + ")");
+    }
+    contents.scan_topic = options.scan_topic;
+  } else if (scans.size() == 1) {
+    contents.scan_topic = scans[0];
+  } else {
+    fail(std::string(scans.empty() ? "no " : "more than one ") + kLaserScanType +
+         " topic: pick one with --scan-topic (topics: " + topicList(contents.topics) + ")");
+  }
+  if (!options.odom_topic.empty() && !topicExists(options.odom_topic, kOdometryType)) {
+    fail("no " + std::string(kOdometryType) + " topic " + options.odom_topic +
+         " (topics: " + topicList(contents.topics) + ")");
+  }
+}
+
+void BagReader::Impl::takeTf(const tf2_msgs::TFMessage& msg, bool is_static) {
+  for (const auto& tr : msg.transforms) {
+    const auto& v = tr.transform.translation;
+    const auto pose = pose2D(v.x, v.y, tr.transform.rotation);
+    const double t = tr.header.stamp.toSec();
+    const std::string parent = frameName(tr.header.frame_id), child = frameName(tr.child_frame_id);
+    if (!pose || parent.empty() || child.empty() || parent == child) {
+      ++stats.skipped["tf transform not finite or without frames"];
+    } else if (!tree.add(parent, child, t, *pose, is_static)) {
+      ++stats.skipped["tf transform of a frame past the 1000th"];
+    } else if (!is_static) {
+      stream_t = std::max(stream_t, t);
+    }
+  }
+}
+
+/// /tf_static first, whole: a recorder latches it once, often after the first scans.
+void BagReader::Impl::readStatic() {
+  auto m = messages(kTfStaticTopics);
+  while (m->next()) {
+    const AllocationLimit limit;
+    if (auto msg = m->as<tf2_msgs::TFMessage>()) takeTf(*msg, true);
+  }
+}
+
+/// Which frames the bag's /tf names, from its first messages (a peek; nothing is kept).
+void BagReader::Impl::peekTf() {
+  std::set<std::string> frames;
+  std::size_t n = 0;
+  for (const auto& topics : {kTfStaticTopics, kTfTopics}) {
+    for (auto m = messages(topics); n < kPeekTfMessages && m->next(); ++n) {
+      const AllocationLimit limit;
+      auto msg = m->as<tf2_msgs::TFMessage>();
+      if (!msg) continue;
+      for (const auto& tr : msg->transforms) {
+        frames.insert(frameName(tr.header.frame_id));
+        frames.insert(frameName(tr.child_frame_id));
+      }
+    }
+  }
+  contents.ground_truth = frames.count(frameName(options.gt_frame)) > 0;
+  contents.odometry =
+      !options.odom_topic.empty() || frames.count(frameName(options.odom_frame)) > 0;
+}
+
+void BagReader::Impl::startView() {
+  std::vector<std::string> topics = kTfTopics;
+  topics.push_back(contents.scan_topic);
+  if (!options.odom_topic.empty()) topics.push_back(options.odom_topic);
+  cursor = messages(topics);
+}
+
+void BagReader::Impl::takeScan(const MessageCursor& m) {
+  auto msg = m.as<sensor_msgs::LaserScan>();
+  if (!msg) return;
+  const std::size_t index = stats.scans++;
+  double t = msg->header.stamp.toSec();
+  if (t == 0) t = m.time();  // no stamp: the time it was recorded
+  double centre = 0;
+  std::string bad;
+  auto scan = convertScan(*msg, centre, bad);
+  if (!scan) {
+    ++stats.skipped[bad];
+    return;
+  }
+  scan->timestamp = mrpt::Clock::fromDouble(t);
+  pending.push_back({index, t, scan, frameName(msg->header.frame_id), centre});
+  stream_t = std::max(stream_t, t);
+}
+
+void BagReader::Impl::readMessage() {
+  try {
+    const AllocationLimit limit;
+    if (!cursor->next()) {
+      eof = true;
+      if (salvage) fault = salvageFault();
+      return;
+    }
+    const MessageCursor& m = *cursor;
+    ++stats.records;
+    if (m.topic() == contents.scan_topic) {
+      takeScan(m);
+    } else if (m.topic() == options.odom_topic) {
+      if (auto o = m.as<nav_msgs::Odometry>()) {
+        const auto& p = o->pose.pose;
+        const auto pose = pose2D(p.position.x, p.position.y, p.orientation);
+        const double t = o->header.stamp.toSec();
+        if (pose) odom.add(t, *pose);
+        if (pose) stream_t = std::max(stream_t, t);
+      }
+    } else if (auto tf = m.as<tf2_msgs::TFMessage>()) {
+      takeTf(*tf, false);
+    }
+  } catch (const std::bad_alloc&) {
+    eof = true;
+    fault = "message " + std::to_string(stats.records) + " is corrupt: it states a size no " +
+            "real message has";
+  } catch (const std::exception& e) {
+    eof = true;
+    fault = "message " + std::to_string(stats.records) + " cannot be read: " + e.what();
+  }
+}
+
+/// A bag read without its index ends in a fault either way: cut off where the salvage says, or
+/// never closed (the recording may have gone on).
+std::string BagReader::Impl::salvageFault() const {
+  const std::string where = cursor->fault();
+  return "a ROS bag without its index (cut off, or its recorder did not close it), read in "
+         "file order up to its end" +
+         (where.empty() ? std::string() : ": " + where);
+}
+
+BagReader::Impl::Outcome BagReader::Impl::resolve(Pending& p, bool complete) {
+  using L = PoseTrack::Lookup;
+  const std::string& base = frameName(options.base_frame);
+  const bool need_any = need_odometry || need_ground_truth;
+  CPose2D mount;
+  if (p.frame != base && !p.frame.empty()) {
+    const L r = tree.lookup(base, p.frame, p.t, complete, mount);
+    if (r == L::kLater) return Outcome::kLater;
+    if (r == L::kMissing && (need_any || (tree.knows(base) && tree.knows(p.frame)))) {
+      ++stats.skipped["scan frame '" + p.frame + "' has no transform to '" + base + "'"];
+      return Outcome::kSkipped;
+    }
+    if (r == L::kMissing) mount = CPose2D();  // no tf at all: the scan's frame is the robot's
+  }
+  BagScan out;
+  auto lookup = [&](const std::string& fixed_frame, std::optional<CPose2D>& pose) {
+    CPose2D q;
+    const L r = fixed_frame.empty() ? odom.at(p.t, q, complete)
+                                    : tree.lookup(frameName(fixed_frame), base, p.t, complete, q);
+    if (r == L::kFound) pose = q;
+    return r;
+  };
+  const std::string odom_frame = options.odom_topic.empty() ? options.odom_frame : "";
+  for (const auto& [need, frame, pose] :
+       {std::tuple{need_odometry, odom_frame, &out.odometry},
+        std::tuple{need_ground_truth, options.gt_frame, &out.ground_truth}}) {
+    if (!need) continue;
+    const L r = lookup(frame, *pose);
+    if (r == L::kLater) return Outcome::kLater;
+    if (r == L::kMissing) {
+      ++stats.skipped[frame.empty()
+                          ? "no " + options.odom_topic + " odometry at the scan's time"
+                          : "no transform " + frame + " -> " + base + " at the scan's time"];
+      return Outcome::kSkipped;
+    }
+  }
+  p.scan->sensorPose = mrpt::poses::CPose3D(mount + CPose2D(0, 0, p.centre));
+  out.index = p.index;
+  out.t = p.t;
+  out.scan = std::move(p.scan);
+  ready.push_back(std::move(out));
+  return Outcome::kReady;
+}
+
+void BagReader::Impl::resolvePending(bool final) {
+  while (!pending.empty()) {
+    Pending& p = pending.front();
+    // No transform stamped within kMaxGap after a scan is coming once the data are past that.
+    const bool complete =
+        final || pending.size() > kMaxPending || stream_t > p.t + PoseTrack::kMaxGap;
+    if (resolve(p, complete) == Outcome::kLater) break;
+    pending.pop_front();
+  }
+  const double horizon = pending.empty() ? stream_t : std::min(stream_t, pending.front().t);
+  tree.forgetBefore(horizon - kHistory_s);
+  odom.forgetBefore(horizon - kHistory_s);
+}
+
+// --- the public face ---------------------------------------------------------------------------
+
+BagReader::BagReader(const std::string& path, const BagOptions& options)
+    : impl_(std::make_unique<Impl>(path, options)) {
+  impl_->open();
+  try {
+    impl_->findTopics();
+    impl_->readStatic();
+    impl_->peekTf();
+    impl_->startView();
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    impl_->fail(std::string("cannot read the ROS bag: ") + e.what());
+  }
+}
+
+BagReader::~BagReader() = default;
+
+const BagContents& BagReader::contents() const {
+  return impl_->contents;
+}
+
+void BagReader::require(bool odometry, bool ground_truth) {
+  impl_->need_odometry = odometry;
+  impl_->need_ground_truth = ground_truth;
+}
+
+bool BagReader::next(BagScan& out) {
+  Impl& m = *impl_;
+  while (m.ready.empty()) {
+    if (m.eof) {
+      m.resolvePending(true);
+      if (!m.ready.empty()) break;
+      if (m.fault.empty()) return false;
+      const std::string f = m.fault;
+      m.fault.clear();
+      m.fail(f);
+    }
+    m.readMessage();
+    m.resolvePending(false);
+  }
+  out = std::move(m.ready.front());
+  m.ready.pop_front();
+  return true;
+}
+
+const SourceStats& BagReader::stats() const {
+  return impl_->stats;
+}
+const std::string& BagReader::path() const {
+  return impl_->path;
+}
+double BagReader::fractionRead() const {
+  return impl_->cursor->fractionRead();
+}
+
+std::size_t BagReader::samplesKept() const {
+  return impl_->tree.samples() + impl_->odom.size();
+}
+
+// --- the ScanSource ----------------------------------------------------------------------------
+
+namespace {
+
+class BagSource : public ScanSource {
+ public:
+  BagSource(const std::string& path, PoseSource source, const BagOptions& options)
+      : reader_(path, options), source_(source) {
+    const BagContents& c = reader_.contents();
+    if (source_ == PoseSource::Simplemap) fail("a ROS bag has no simplemap poses");
+    if (source_ == PoseSource::Auto) {
+      if (c.ground_truth)
+        source_ = PoseSource::GroundTruth;
+      else if (c.odometry)
+        source_ = PoseSource::Odometry;
+      else
+        fail(noPoses(options));
+    }
+    if (source_ == PoseSource::GroundTruth && !c.ground_truth) {
+      fail("no ground truth: no frame '" + options.gt_frame + "' in /tf (--gt-frame)");
+    }
+    if (source_ == PoseSource::Odometry && !c.odometry) {
+      fail("no odometry: no frame '" + options.odom_frame + "' in /tf and no --odom-topic");
+    }
+    reader_.require(source_ == PoseSource::Odometry, source_ == PoseSource::GroundTruth);
+  }
+
+  bool next(ScanRecord& out) override {
+    BagScan s;
+    if (!reader_.next(s)) return false;
+    out.index = s.index;
+    out.t = s.t;
+    out.scan = s.scan;
+    out.pose = source_ == PoseSource::Odometry      ? *s.odometry
+               : source_ == PoseSource::GroundTruth ? *s.ground_truth
+                                                    : CPose2D();
+    return true;
+  }
+  PoseSource poseSource() const override { return source_; }
+  const SourceStats& stats() const override { return reader_.stats(); }
+  const std::string& path() const override { return reader_.path(); }
+  double fractionRead() const override { return reader_.fractionRead(); }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(reader_.path() + ": " + what);
+  }
+  static std::string noPoses(const BagOptions& o) {
+    return "no poses found (no frame '" + o.gt_frame + "' or '" + o.odom_frame +
+           "' in /tf, no --odom-topic); --poses fixed maps a robot that stands still";
+  }
+
+  BagReader reader_;
+  PoseSource source_;
+};
+
+}  // namespace
+
+std::unique_ptr<ScanSource> openBagSource(const std::string& path, PoseSource source,
+                                          const BagOptions& options) {
+  return std::make_unique<BagSource>(path, source, options);
+}
+
+}  // namespace dynamap
+
+// --- rosbag's Buffer, bounded ------------------------------------------------------------------
+//
+// rosbag's Buffer (record headers, chunks, messages) grows with realloc to whatever size a bag
+// states, doubling a 32-bit capacity until it is large enough: a corrupt bag makes it allocate
+// gigabytes, loop for ever once the doubling overflows, or write through the null pointer a
+// failed realloc returns (its check is an assert, compiled out). Like mrpt::aligned_malloc in
+// base/allocation_limit.cpp, this definition takes the place of librosbag_storage's own (which
+// calls it through the PLT) with the same behaviour for every real bag, and applies the record
+// AllocationLimit in force: a refusal, or a failed realloc, throws std::bad_alloc, which the
+// bag reader reports as a corrupt bag naming the file.
+
+namespace rosbag {
+
+void Buffer::ensureCapacity(uint32_t capacity) {
+  if (capacity <= capacity_) return;
+  const std::size_t limit = dynamap::currentAllocationLimit();
+  if (limit != 0 && capacity > limit) throw std::bad_alloc();
+  std::uint64_t grown = capacity_ == 0 ? capacity : capacity_;
+  while (grown < capacity) grown *= 2;  // 64 bits: no overflow
+  if (grown > UINT32_MAX || (limit != 0 && grown > limit)) grown = capacity;
+  void* p = std::realloc(buffer_, grown);
+  if (!p) throw std::bad_alloc();
+  buffer_ = static_cast<uint8_t*>(p);
+  capacity_ = static_cast<uint32_t>(grown);
+}
+
+}  // namespace rosbag
+
+// --- ros::Header::parse, bounded -----------------------------------------------------------------
+//
+// rosbag parses every record header with ros::Header::parse, which takes each field's length
+// from the bag and copies that many bytes, past the end of the header when a corrupt bag says
+// so. This definition takes the place of libcpp_common's for rosbag's calls (through the PLT):
+// a header whose fields do not fit is refused (rosbag then throws, the reader reports the bag
+// as corrupt), one whose fields fit is parsed by ROS's own definition, found with RTLD_NEXT.
+
+namespace ros {
+
+bool Header::parse(uint8_t* buffer, uint32_t size, std::string& error_msg) {
+  if (!dynamap::bag::headerFieldsFit(buffer, size)) {
+    error_msg = "a header field runs past the end of the header";
+    return false;
+  }
+  using Parse = bool (*)(Header*, uint8_t*, uint32_t, std::string&);
+  static const Parse ros_parse = reinterpret_cast<Parse>(dlsym(
+      RTLD_NEXT, "_ZN3ros6Header5parseEPhjRNSt7__cxx1112basic_stringIcSt11char_traitsIcESaIcEEE"));
+  if (!ros_parse) {
+    error_msg = "ros::Header::parse not found in libcpp_common";
+    return false;
+  }
+  return ros_parse(this, buffer, size, error_msg);
+}
+
+}  // namespace ros

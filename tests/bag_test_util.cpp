@@ -1,0 +1,88 @@
+#include "bag_test_util.h"
+
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/LaserScan.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <cmath>
+#include <limits>
+
+namespace dynamap::test {
+namespace {
+
+geometry_msgs::Quaternion yawQuaternion(double yaw) {
+  geometry_msgs::Quaternion q;
+  q.w = std::cos(yaw / 2);
+  q.z = std::sin(yaw / 2);
+  return q;
+}
+
+}  // namespace
+
+BagWriter::BagWriter(const std::string& path, int compression)
+    : bag_(std::make_unique<rosbag::Bag>(path, rosbag::bagmode::Write)) {
+  bag_->setChunkThreshold(4096);  // many chunks: a cut file keeps some whole
+  bag_->setCompression(static_cast<rosbag::compression::CompressionType>(compression));
+}
+
+BagWriter::~BagWriter() = default;
+
+void BagWriter::scan(const std::string& topic, double t, const RosScan& s) {
+  sensor_msgs::LaserScan m;
+  m.header.stamp = ros::Time(t);
+  m.header.frame_id = s.frame;
+  m.angle_min = s.angle_min;
+  m.angle_increment = s.increment;
+  m.angle_max = s.angle_min + s.increment * static_cast<float>(s.ranges.size() - 1);
+  m.range_min = s.range_min;
+  m.range_max = s.range_max;
+  m.ranges = s.ranges;
+  bag_->write(topic, ros::Time(t), m);
+}
+
+void BagWriter::tf(double t, const std::string& parent, const std::string& child,
+                   const mrpt::poses::CPose2D& pose, bool is_static) {
+  tf2_msgs::TFMessage msg;
+  geometry_msgs::TransformStamped tr;
+  tr.header.stamp = ros::Time(t);
+  tr.header.frame_id = parent;
+  tr.child_frame_id = child;
+  tr.transform.translation.x = pose.x();
+  tr.transform.translation.y = pose.y();
+  tr.transform.rotation = yawQuaternion(pose.phi());
+  msg.transforms.push_back(tr);
+  bag_->write(is_static ? "/tf_static" : "/tf", ros::Time(t), msg);
+}
+
+void BagWriter::odometry(const std::string& topic, double t, const mrpt::poses::CPose2D& pose) {
+  nav_msgs::Odometry o;
+  o.header.stamp = ros::Time(t);
+  o.header.frame_id = "odom";
+  o.child_frame_id = "base_link";
+  o.pose.pose.position.x = pose.x();
+  o.pose.pose.position.y = pose.y();
+  o.pose.pose.orientation = yawQuaternion(pose.phi());
+  bag_->write(topic, ros::Time(t), o);
+}
+
+void BagWriter::close() {
+  bag_->close();
+}
+
+RosScan rosScanOf(const mrpt::obs::CObservation2DRangeScan& scan) {
+  RosScan s;
+  const std::size_t n = scan.getScanSize();
+  const float step = n > 1 ? scan.aperture / static_cast<float>(n - 1) : 0.0f;
+  s.angle_min = scan.rightToLeft ? -scan.aperture / 2 : scan.aperture / 2;
+  s.increment = scan.rightToLeft ? step : -step;
+  s.range_min = 0.0f;
+  s.range_max = scan.maxRange;
+  for (std::size_t i = 0; i < n; ++i) {
+    s.ranges.push_back(scan.getScanRangeValidity(i) ? scan.getScanRange(i)
+                                                    : std::numeric_limits<float>::infinity());
+  }
+  return s;
+}
+
+}  // namespace dynamap::test
