@@ -113,7 +113,7 @@ int runImportBag(const Args& args) {
   BagReader reader(a.input, a.bag);
   const bool odometry = reader.contents().odometry, gt = reader.contents().ground_truth;
   reader.require(odometry, gt);
-  ImportOutput out(a.output, gt);
+  ImportOutput out(a.input, a.output, gt);
   std::size_t written = 0;
   std::optional<double> t_first;
   double t_last = 0;

@@ -138,7 +138,7 @@ int runImportCarmen(const Args& args) {
   if (help) return kExitOk;
 
   CarmenReader reader(a.input, a.carmen);
-  ImportOutput out(a.output);
+  ImportOutput out(a.input, a.output);
   ImportTally tally;
   CarmenEvent e;
   while (reader.next(e)) {

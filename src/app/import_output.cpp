@@ -1,10 +1,13 @@
 #include "import_output.h"
 
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
 
+#include "commands.h"
+#include "dynamap/input/pose_file.h"
 #include "dynamap/input/scan_source.h"
 
 namespace dynamap::app {
@@ -18,8 +21,43 @@ std::string groundTruthPath(std::string out) {
   return out + ".gt.txt";
 }
 
-ImportOutput::ImportOutput(const std::string& rawlog, bool with_ground_truth)
+namespace {
+
+// An existing file at `out` may be replaced only when it is an earlier import's output: never the
+// input itself, never something else (a log, a map) that a typo pointed at.
+void requireReplaceable(const std::string& input, const std::string& out, bool rawlog) {
+  std::error_code ec;
+  if (!std::filesystem::exists(out, ec)) return;
+  if (std::filesystem::equivalent(input, out, ec)) {
+    throw UsageError(out + ": is the input; give another --out");
+  }
+  bool ours = false;
+  if (rawlog) {
+    mrpt::io::CFileGZInputStream in;
+    std::string head(256, '\0');
+    head.resize(in.open(out) ? in.Read(head.data(), head.size()) : 0);
+    ours = head.find("CObservation") != std::string::npos;
+  } else {
+    try {
+      readPoseFile(out);  // every line `t x y phi`: an earlier import's ground truth
+      ours = true;
+    } catch (const InputError&) {
+    }
+  }
+  if (!ours) {
+    throw UsageError(out + ": exists and is not " +
+                     (rawlog ? std::string("an MRPT rawlog") : std::string("a pose file")) +
+                     "; refusing to overwrite it");
+  }
+}
+
+}  // namespace
+
+ImportOutput::ImportOutput(const std::string& input, const std::string& rawlog,
+                           bool with_ground_truth)
     : rawlog_(rawlog), gt_(with_ground_truth ? groundTruthPath(rawlog) : "") {
+  requireReplaceable(input, rawlog_, true);
+  if (!gt_.empty()) requireReplaceable(input, gt_, false);
   if (!rawlog_out_.open(tmp(rawlog_))) throw InputError(rawlog_ + ": cannot write");
   if (gt_.empty()) return;
   gt_out_ = std::fopen(tmp(gt_).c_str(), "w");

@@ -19,8 +19,11 @@ std::string groundTruthPath(std::string rawlog);
 
 class ImportOutput {
  public:
-  /// Opens both files (`with_ground_truth` false: no .gt.txt). Throws InputError if it cannot.
-  ImportOutput(const std::string& rawlog, bool with_ground_truth = true);
+  /// Opens both files (`with_ground_truth` false: no .gt.txt) for the import of `input`. Throws
+  /// UsageError before writing anything when either would overwrite the input (the same file,
+  /// by inode) or an existing file that is not an MRPT rawlog or pose file; InputError when a
+  /// file cannot be opened.
+  ImportOutput(const std::string& input, const std::string& rawlog, bool with_ground_truth = true);
   ~ImportOutput();
   ImportOutput(const ImportOutput&) = delete;
   ImportOutput& operator=(const ImportOutput&) = delete;

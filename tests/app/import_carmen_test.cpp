@@ -1,12 +1,14 @@
 // dynamap import-carmen end to end: its rawlog reads back with MRPT, objects in log order.
 
 #include <gtest/gtest.h>
+
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/serialization/CArchive.h>
 #include <unistd.h>
+#include "../test_util.h"
 
 #include <cstdlib>
 #include <filesystem>
@@ -157,6 +159,21 @@ TEST_F(ImportCarmenTest, CommandLine) {
   const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(
       readRawlog(path("o.rawlog"))[2]);
   EXPECT_NEAR(scan->aperture, 89.5 * M_PI / 180, 1e-5);  // 180 beams over 90 deg
+}
+
+TEST_F(ImportCarmenTest, AnOutputThatIsTheInputOrNotARawlogIsRefusedAndLeftAlone) {
+  const std::string log = write("keep.log", sampleLog());
+  std::string output;
+  EXPECT_EQ(run("import-carmen " + log + " --out " + log, &output), 2) << output;
+  EXPECT_NE(output.find("is the input"), std::string::npos) << output;
+  EXPECT_EQ(dynamap::test::readFile(log), sampleLog());  // untouched
+  const std::string notes = write("notes.rawlog", "my notes\n");
+  EXPECT_EQ(run("import-carmen " + log + " --out " + notes, &output), 2) << output;
+  EXPECT_NE(output.find("is not an MRPT rawlog"), std::string::npos) << output;
+  EXPECT_EQ(dynamap::test::readFile(notes), "my notes\n");
+  // An earlier import's output is replaced as before.
+  EXPECT_EQ(run("import-carmen " + log + " --out " + path("o.rawlog")), 0);
+  EXPECT_EQ(run("import-carmen " + log + " --out " + path("o.rawlog")), 0);
 }
 
 }  // namespace
