@@ -26,12 +26,13 @@ ROSBAG_PACKAGES := librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-
 
 # Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
 # keep the install well below the whole libmrpt-dev metapackage; mrpt-common brings MRPT's own
-# example logs, which the tests read (Malaga's simplemap).
+# example logs, which the tests read (Malaga's simplemap); ffmpeg turns --frames-every frames
+# into timelapse.mp4, and the timelapse test needs it.
 DEB_PACKAGES := cmake g++ make \
   libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
   libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
   libeigen3-dev libboost-program-options-dev libgtest-dev \
-  mrpt-common $(ROSBAG_PACKAGES)
+  mrpt-common ffmpeg $(ROSBAG_PACKAGES)
 
 BUILD_DIR ?= build
 BUILD_TYPE ?= Release
@@ -83,7 +84,7 @@ bench: build
 
 # Each config/scenarios/<name>.ini writes rawlogs/<name>/<name>.{rawlog,gt.txt,objects.csv,
 # moves.csv,world.png}; the SimBundled tests fail when the committed files are stale.
-SCENARIOS := arena corridors corridors_odom people tiny
+SCENARIOS := arena corridors corridors_odom people tiny walkers
 scenarios: build
 	@for s in $(SCENARIOS); do \
 	  $(DYNAMAP) simulate --scenario config/scenarios/$$s.ini --out rawlogs/$$s || exit 1; \
@@ -92,7 +93,7 @@ scenarios: build
 # Each scenario is mapped with ground-truth poses into out/<name>/ and evaluated there
 # (report.md, metrics.json); then one table of all of them beside the paper's. The scenarios of
 # SCAN_MATCHING_SCENARIOS are mapped from their odometry corrected by scan matching instead.
-EVAL_SCENARIOS := arena corridors corridors_odom people
+EVAL_SCENARIOS := arena corridors corridors_odom people walkers
 SCAN_MATCHING_SCENARIOS := corridors_odom
 eval: build
 	@for s in $(EVAL_SCENARIOS); do \

@@ -167,6 +167,23 @@ std::vector<TrackRow> readTracks(const std::string& path) {
   return rows;
 }
 
+std::vector<PersonTrackRow> readPeople(const std::string& path) {
+  CsvReader csv(path, "scan_index,t,person_id,x,y,vx,vy");
+  std::vector<PersonTrackRow> rows;
+  for (std::vector<std::string> f; csv.next(f);) {
+    PersonTrackRow r;
+    r.scan_index = static_cast<std::size_t>(csv.integer(f[0], "scan_index"));
+    csv.number(f[1], "t");
+    r.person_id = static_cast<int>(csv.integer(f[2], "person_id"));
+    r.x = csv.number(f[3], "x");
+    r.y = csv.number(f[4], "y");
+    csv.number(f[5], "vx");
+    csv.number(f[6], "vy");
+    rows.push_back(r);
+  }
+  return rows;
+}
+
 /// `timestamp x y phi` lines (poses.txt, <name>.gt.txt), sorted by time.
 std::vector<TimedPose> readPoses(const std::string& path) {
   std::vector<TimedPose> poses = readPoseFile(path);
@@ -265,6 +282,8 @@ struct Evaluation {
   PrecisionRecall union_pr;
   double object_threshold = 0.85;
   std::vector<std::string> notes;
+  bool have_people = false;              // the result has people.csv
+  MotScores mot;                         // its CLEAR MOT against the person truth
   bool have_poses = false;               // the result has poses.txt
   TrajectoryError trajectory, odometry;  // of poses.txt and of the log's raw odometry
 };
@@ -375,6 +394,13 @@ void printTable(std::ostream& o, const Evaluation& ev) {
         << num(e.rmse_phi_rad * 180.0 / M_PI, 3, "n/a") << "\n";
     }
   }
+  const MotScores& m = ev.mot;
+  o << "\n  people (CLEAR MOT, gate 0.75 m, persons with >= 3 beams)"
+    << (ev.have_people ? "" : "  (no people.csv in the result)") << "\n"
+    << "  MOTA " << num(m.mota, 3, "n/a") << "   MOTP " << num(m.motp_m, 3, "n/a") << " m   "
+    << m.ground_truth << " person-scans: " << m.matches << " matched, " << m.misses
+    << " missed, " << m.false_positives << " false positives, " << m.id_switches
+    << " identity switches; " << m.people << " persons, " << m.track_ids << " track ids\n";
   for (const auto& n : ev.notes) o << "  note: " << n << "\n";
 }
 
@@ -449,6 +475,15 @@ void writeMetricsJson(std::ostream& o, const Evaluation& ev) {
     << "  \"union_precision\": " << num(ev.union_pr.precision, 3) << ",\n"
     << "  \"union_recall\": " << num(ev.union_pr.recall, 3) << ",\n"
     << "  \"tracker_id_count\": " << ob.ids.size() << ",\n"
+    << "  \"people_present\": " << (ev.have_people ? "true" : "false") << ",\n"
+    << "  \"mota\": " << num(ev.mot.mota, 3) << ",\n"
+    << "  \"motp_m\": " << num(ev.mot.motp_m, 3) << ",\n"
+    << "  \"mot_person_scans\": " << ev.mot.ground_truth << ",\n"
+    << "  \"mot_matches\": " << ev.mot.matches << ",\n"
+    << "  \"mot_misses\": " << ev.mot.misses << ",\n"
+    << "  \"mot_false_positives\": " << ev.mot.false_positives << ",\n"
+    << "  \"mot_id_switches\": " << ev.mot.id_switches << ",\n"
+    << "  \"mot_track_ids\": " << ev.mot.track_ids << ",\n"
     << "  \"ate_rmse_xy_m\": " << (ev.have_poses ? num(ev.trajectory.rmse_xy_m, 4) : "null")
     << ",\n"
     << "  \"ate_rmse_phi_deg\": "
@@ -576,6 +611,11 @@ int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
       {"S u D recall %", "union_recall", nullptr},
       {"ATE position RMSE (m)", "ate_rmse_xy_m", nullptr},
       {"ATE heading RMSE (deg)", "ate_rmse_phi_deg", nullptr},
+      {"people MOTA", "mota", nullptr},
+      {"people MOTP (m)", "motp_m", nullptr},
+      {"people identity switches", "mot_id_switches", nullptr},
+      {"people misses", "mot_misses", nullptr},
+      {"people false positives", "mot_false_positives", nullptr},
   };
   for (const auto& row : rows) {
     o << std::setw(kLabel) << row.label;
@@ -627,6 +667,10 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
     throw InputError(tracks.string() + ": " + e.what());
   }
   evaluateCells(scenario, rows, moves, rawlog, config, ev);
+  const fs::path people = fs::path(result) / "people.csv";
+  ev.have_people = fs::exists(people);
+  ev.mot = evaluateClearMot(rows, ev.have_people ? readPeople(people.string())
+                                                 : std::vector<PersonTrackRow>{});
   const fs::path poses = fs::path(result) / "poses.txt";
   ev.have_poses = fs::exists(poses);
   if (ev.have_poses) {

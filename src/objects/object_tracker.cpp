@@ -292,7 +292,7 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
       continue;
     }
     const Track& tr = it->second;
-    if (!passesFilters(tr, tent->shape, options_)) {
+    if (!passesFilters(tr, tent->shape, options_) || nearKeepOut(tent->shape)) {
       tent->passes = 0;
       pending_.erase(key);
       continue;
@@ -450,6 +450,14 @@ void ObjectTracker::updateLastSeen(const ScanView& view, double t) {
       o.last_seen_t = t;
     }
   }
+}
+
+bool ObjectTracker::nearKeepOut(const ShapeEstimate& shape) const {
+  // A person walking or standing is no object: their cluster never becomes one.
+  for (const KeepOut& k : keep_out_) {
+    if (std::hypot(shape.cx - k.x, shape.cy - k.y) <= k.r) return true;
+  }
+  return false;
 }
 
 }  // namespace dynamap

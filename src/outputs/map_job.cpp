@@ -25,7 +25,13 @@ double secondsSince(Clock::time_point start) {
 void writeFrame(const std::string& dir, const Mapper& mapper, std::size_t scan_index) {
   char name[32];
   std::snprintf(name, sizeof name, "%06zu.png", scan_index);
-  saveImageAtomically(renderOverlay(mapper.map(), mapper.path(), &mapper.tracker().objects()), dir,
+  // The people of this scan, each with the trail that brought them here.
+  std::vector<PersonTrail> trails;
+  const std::vector<PersonTrail> all = mapper.people().trails();
+  for (const PersonRow& p : mapper.people().reported()) {
+    trails.push_back(all[static_cast<std::size_t>(p.person_id - 1)]);
+  }
+  saveImageAtomically(renderOverlay(mapper.map(), mapper.path(), &mapper.tracker().objects(), &trails), dir,
                       name);
 }
 
@@ -50,11 +56,12 @@ void writeTimelapse(const std::string& out_dir, const std::string& frames_dir) {
 // What runs beside the mapper for each scan: the streamed files, the baseline, the frames.
 struct Writers {
   Writers(const MapJob& job)
-      : tracks(job.out_dir), poses(job.out_dir), frames_dir(job.out_dir + "/frames") {
+      : tracks(job.out_dir), people(job.out_dir), poses(job.out_dir), frames_dir(job.out_dir + "/frames") {
     if (job.baseline) baseline = std::make_unique<PlainGrid>(job.config.map, job.config.insertion);
     if (job.frames_every > 0) prepareOutputDir(frames_dir);
   }
   TrackLog tracks;  // streamed: rows are never kept in memory
+  PeopleLog people;
   PoseLog poses;
   std::unique_ptr<PlainGrid> baseline;
   Clock::duration baseline_time{};
@@ -68,6 +75,7 @@ void afterScan(const MapJob& job, const Mapper& mapper, Writers& w, const ScanRe
     w.baseline_time += Clock::now() - t0;
   }
   w.tracks.append(rec.index, rec.t, mapper.tracker());
+  w.people.append(rec.index, rec.t, mapper.people());
   w.poses.append(rec.t, rec.pose);
   if (job.frames_every > 0 && rec.index % static_cast<std::size_t>(job.frames_every) == 0) {
     writeFrame(w.frames_dir, mapper, rec.index);
@@ -93,6 +101,7 @@ MapJobResult runMapJob(const MapJob& job) {
     if (job.progress) job.progress(source->fractionRead(), mapper.counts().scans_used);
   });
   w.tracks.finish();
+  w.people.finish();
   w.poses.finish();
   r.baseline_wall_s = std::chrono::duration<double>(w.baseline_time).count();
   r.wall_s = secondsSince(start) - r.baseline_wall_s;

@@ -1,6 +1,7 @@
 #include "dynamap/outputs/render.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -114,7 +115,8 @@ Pixel toPixel(const DynamicGridMap& map, const View& view, double x, double y) {
 }
 
 CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
-                     const std::vector<TrackedObject>* objects) {
+                     const std::vector<TrackedObject>* objects,
+                     const std::vector<PersonTrail>* people) {
   const View view = observedView(map);
   CImage img = paintCells(map, view, [&](std::size_t i) {
     if (map.isObjectIndex(i)) return Bgr{0, 0, 230};
@@ -127,8 +129,61 @@ CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& pa
     const Pixel b = toPixel(map, view, path[k].x, path[k].y);
     img.line(a.x, a.y, b.x, b.y, blue, 1);
   }
+  if (people) drawPeople(img, map, view, *people);
   if (objects) drawObjects(img, map, view, *objects);
   return img;
+}
+
+void drawPeople(CImage& img, const DynamicGridMap& map, const View& view,
+                const std::vector<PersonTrail>& people) {
+  // Magenta: apart from the red of D, the green of object boxes and the blue of the robot.
+  const mrpt::img::TColor trail(200, 0, 200), text(255, 255, 255);
+  const bool big = img.getWidth() >= 1000;
+  img.selectTextFont(big ? "9x15B" : "6x13B");
+  const int char_w = big ? 9 : 6, char_h = big ? 15 : 13;
+  const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
+  std::vector<std::array<int, 4>> labels;  // x0 y0 x1 y1
+  for (const PersonTrail& p : people) {
+    if (p.points.empty()) continue;
+    for (std::size_t k = 1; k < p.points.size(); ++k) {
+      const Pixel a = toPixel(map, view, p.points[k - 1].first, p.points[k - 1].second);
+      const Pixel b = toPixel(map, view, p.points[k].first, p.points[k].second);
+      img.line(a.x, a.y, b.x, b.y, trail, 1);
+    }
+    const Pixel end = toPixel(map, view, p.points.back().first, p.points.back().second);
+    img.filledRectangle(end.x - 2, end.y - 2, end.x + 2, end.y + 2, trail);
+    const std::string label = "P" + std::to_string(p.id);
+    const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
+    // Beside the end point: right, left, above, below, then the same one and two label sizes
+    // further out; the first place that covers no other label (else the first place).
+    auto clamped = [&](int x, int y) {
+      return std::array<int, 4>{std::clamp(x, 0, std::max(0, w - lw - 1)),
+                                std::clamp(y, 0, std::max(0, h - lh - 1)), 0, 0};
+    };
+    std::array<int, 4> at = clamped(end.x + 4, end.y - lh / 2);
+    bool found = false;
+    for (int ring = 0; ring < 3 && !found; ++ring) {
+      const int dx = 4 + ring * lw, dy = lh / 2 + ring * (lh + 1);
+      for (const auto& c : {clamped(end.x + dx, end.y - lh / 2),
+                            clamped(end.x - dx - lw, end.y - lh / 2),
+                            clamped(end.x - lw / 2, end.y - dy - lh),
+                            clamped(end.x - lw / 2, end.y + dy)}) {
+        bool clear = true;
+        for (const auto& l : labels) {
+          clear = clear && !(c[0] <= l[2] && l[0] <= c[0] + lw && c[1] <= l[3] && l[1] <= c[1] + lh);
+        }
+        if (clear) {
+          at = c;
+          found = true;
+          break;
+        }
+      }
+    }
+    const int x = at[0], y = at[1];
+    labels.push_back({x, y, x + lw, y + lh});
+    img.filledRectangle(x, y, x + lw, y + lh, trail);
+    img.textOut(x + 2, y + 1, label, text);
+  }
 }
 
 void drawObjects(CImage& img, const DynamicGridMap& map, const View& view,

@@ -33,6 +33,30 @@ void writeObjectSummary(std::ostream& o, const ObjectTracker& tracker) {
   o << "}\n  },\n";
 }
 
+// The people tracked: how many, for how long, how far each walked.
+void writePeopleSummary(std::ostream& o, const PersonTracker& people) {
+  const std::vector<PersonSummary> all = people.summaries();
+  double duration = 0, path = 0;
+  for (const PersonSummary& p : all) {
+    duration += p.last_t - p.first_t;
+    path += p.path_length;
+  }
+  o << "  \"people\": {\n"
+    << "    \"enabled\": " << (people.options().enabled ? "true" : "false") << ",\n"
+    << "    \"tracks\": " << all.size() << ",\n"
+    << "    \"total_duration_s\": " << fmt("%.3f", duration) << ",\n"
+    << "    \"total_path_m\": " << fmt("%.3f", path) << ",\n"
+    << "    \"by_person\": [";
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const PersonSummary& p = all[i];
+    o << (i ? ",\n      " : "\n      ") << "{\"id\": " << p.id << ", \"first_t\": "
+      << fmt("%.6f", p.first_t) << ", \"last_t\": " << fmt("%.6f", p.last_t)
+      << ", \"duration_s\": " << fmt("%.3f", p.last_t - p.first_t)
+      << ", \"path_m\": " << fmt("%.3f", p.path_length) << "}";
+  }
+  o << (all.empty() ? "]\n" : "\n    ]\n") << "  },\n";
+}
+
 // What a plain MRPT grid of the same scans holds that S does not, and the other way round.
 void writeBaselineSummary(std::ostream& o, const DynamicGridMap& m, const PlainGrid& plain) {
   const PlainComparison c = comparePlain(m, plain.grid());
@@ -107,6 +131,7 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
     << "    \"dynamic_occupied\": " << cells.dynamic_occupied << "\n"
     << "  },\n";
   writeObjectSummary(o, mapper.tracker());
+  writePeopleSummary(o, mapper.people());
   if (mapper.scanMatching()) writeScanMatchSummary(o, mapper.scanMatchCounts());
   if (info.baseline) writeBaselineSummary(o, m, *info.baseline);
   o << "  \"timing\": {\n"
@@ -130,7 +155,8 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
   const DynamicGridMap& m = mapper.map();
   saveImageAtomically(renderStatic(m), dir, "static.png");
   saveImageAtomically(renderDynamic(m), dir, "dynamic.png");
-  saveImageAtomically(renderOverlay(m, mapper.path(), &mapper.tracker().objects()), dir,
+  const std::vector<PersonTrail> trails = mapper.people().trails();
+  saveImageAtomically(renderOverlay(m, mapper.path(), &mapper.tracker().objects(), &trails), dir,
                       "overlay.png");
   writeGridmap(m, dir, "static.gridmap.gz");
   writeDynamicGridmap(m, dir, "dynamic.gridmap.gz");

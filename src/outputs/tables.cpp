@@ -36,6 +36,17 @@ void StreamedFile::finish() {
   commit(tmp_, dir_, name_);
 }
 
+PeopleLog::PeopleLog(const std::string& dir)
+    : file_(dir, "people.csv", "scan_index,t,person_id,x,y,vx,vy\n") {}
+
+void PeopleLog::append(std::size_t scan_index, double t, const PersonTracker& people) {
+  for (const PersonRow& p : people.reported()) {
+    file_.out() << scan_index << ',' << fmt("%.6f", t) << ',' << p.person_id << ','
+                << fmt("%.3f", p.x) << ',' << fmt("%.3f", p.y) << ',' << fmt("%.3f", p.vx) << ','
+                << fmt("%.3f", p.vy) << '\n';
+  }
+}
+
 TrackLog::TrackLog(const std::string& dir)
     : file_(dir, "tracks.csv", "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n") {}
 

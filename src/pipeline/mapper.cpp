@@ -14,11 +14,13 @@ namespace dynamap {
 
 MapConfig MapConfig::load(const IniFile& ini) {
   ini.requireKnownSections({DynamicMapOptions::kSection, InsertionOptions::kSection,
-                            ObjectOptions::kSection, ScanMatchOptions::kSection, "input"});
+                            ObjectOptions::kSection, PeopleOptions::kSection,
+                            ScanMatchOptions::kSection, "input"});
   MapConfig c;
   c.map.load(ini);
   c.insertion.load(ini);
   c.objects.load(ini);
+  c.people.load(ini);
   c.scan_matching.load(ini);
   ini.requireKnownKeys("input", {"poses", "fixed_pose"});
   const std::string poses = ini.getString("input", "poses", "auto");
@@ -51,6 +53,8 @@ void MapConfig::writeIni(std::ostream& out) const {
   out << "\n";
   objects.writeIni(out);
   out << "\n";
+  people.writeIni(out);
+  out << "\n";
   scan_matching.writeIni(out);
 }
 
@@ -64,6 +68,7 @@ std::vector<OptionDoc> MapConfig::describe() {
   for (auto&& more : {DynamicMapOptions::table().describe(defaults.map),
                       InsertionOptions::table().describe(defaults.insertion),
                       ObjectOptions::table().describe(defaults.objects),
+                      PeopleOptions::table().describe(defaults.people),
                       ScanMatchOptions::table().describe(defaults.scan_matching)}) {
     docs.insert(docs.end(), more.begin(), more.end());
   }
@@ -80,6 +85,7 @@ Mapper::Mapper(const MapConfig& config)
     : config_(config),
       map_(config.map, config.insertion),
       tracker_(config.objects),
+      people_(config.people),
       path_(config.map.resolution) {
   if (config.poses == PoseSource::ScanMatching) {
     matcher_ = std::make_unique<ScanMatcher>(config.scan_matching);
@@ -124,7 +130,14 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   const RangeData rd = makeRangeData(*rec.scan, config_.insertion.max_distance_insertion,
                                      config_.insertion.horizontal_tolerance_deg * M_PI / 180.0);
   result.pose = matcher_ ? correctPose(rec, rd) : rec.pose;  // 2. where the scan was taken
-  map_.insertRange(rd, result.pose);                         // 3. S and D
+  // 3. People, detected against S as it was before this scan (the paper's S_{t-1}).
+  ScanHits hits;
+  std::vector<PersonDetection> people;
+  if (config_.people.enabled) {
+    hits = scanHits(*rec.scan, result.pose, config_.insertion.max_distance_insertion);
+    people = detectPeople(map_, hits, config_.people);
+  }
+  map_.insertRange(rd, result.pose);  // 4. S and D
   const ScanInsertStats& st = map_.lastInsertStats();
   counts_.beams_bad += st.beams_bad;
   if (!st.inserted) {
@@ -134,10 +147,19 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   }
   result.inserted = true;
   ++counts_.scans_used;
-  // 4. Objects, from the D cells this scan changed and the scan's view of known places.
+  // 5. People tracked; where they are, no object is confirmed (exclusion_radius > 0).
+  if (config_.people.enabled) {
+    people_.update(people, hits, rec.t);
+    std::vector<ObjectTracker::KeepOut> keep_out;
+    for (const auto& [x, y] : people_.personPositions()) {
+      keep_out.push_back({x, y, config_.people.exclusion_radius});
+    }
+    tracker_.setKeepOut(std::move(keep_out));
+  }
+  // 6. Objects, from the D cells this scan changed and the scan's view of known places.
   tracker_.update(map_, makeScanView(rd, result.pose), rec.t, rec.index);
   result.object_events = tracker_.eventsOfLastUpdate();
-  path_.add(result.pose.x(), result.pose.y());  // 5. the path the pictures draw
+  path_.add(result.pose.x(), result.pose.y());  // 7. the path the pictures draw
   return result;
 }
 

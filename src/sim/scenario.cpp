@@ -225,19 +225,83 @@ void readMovesSection(const IniFile& ini, Scenario& sc) {
                    [](const MoveSpec& a, const MoveSpec& b) { return a.t_start < b.t_start; });
 }
 
+// The keys of `section` that start with one of `prefixes` (numberedKeys' "others" for the rest).
+std::vector<std::string> keysWithPrefix(const IniFile& ini, const std::string& section,
+                                        const std::vector<std::string>& prefixes) {
+  std::vector<std::string> out;
+  for (const auto& k : ini.keys(section)) {
+    for (const auto& p : prefixes) {
+      if (k.rfind(p + ".", 0) == 0) out.push_back(k);
+    }
+  }
+  return out;
+}
+
+PersonSpec* personById(Scenario& sc, int id) {
+  for (auto& p : sc.people) {
+    if (p.id == id) return &p;
+  }
+  return nullptr;
+}
+
+// legs.<n> = leg_diameter stride: person n is two legs.
+void readLegs(const IniFile& ini, Scenario& sc) {
+  const std::string s = "people";
+  for (const auto& [n, key] : numberedKeys(ini, s, "legs", keysWithPrefix(ini, s, {"person", "pause"}))) {
+    const auto v = numbers(ini, s, key, 2, "leg_diameter stride");
+    PersonSpec* p = personById(sc, n);
+    if (!p) ini.fail(s, key, "no person." + std::to_string(n));
+    p->leg_diameter = positive(ini, s, key, v[0]);
+    if (!(v[1] >= 0)) ini.fail(s, key, "stride must be >= 0");
+    p->stride = v[1];
+    if (2 * p->leg_diameter > p->diameter) {
+      ini.fail(s, key, "two legs of this diameter do not fit in the person's diameter");
+    }
+  }
+}
+
+// pause.<n> = person_id point seconds: the walker stands at that path point (1-based).
+void readPauses(const IniFile& ini, Scenario& sc) {
+  const std::string s = "people";
+  for (const auto& [n, key] : numberedKeys(ini, s, "pause", keysWithPrefix(ini, s, {"person", "legs"}))) {
+    (void)n;
+    const auto v = numbers(ini, s, key, 3, "person_id point seconds");
+    PersonSpec* p = v[0] == std::floor(v[0]) ? personById(sc, static_cast<int>(v[0])) : nullptr;
+    if (!p) ini.fail(s, key, "no person with this id");
+    if (!(v[1] >= 1 && v[1] <= static_cast<double>(p->path.size()) && v[1] == std::floor(v[1]))) {
+      ini.fail(s, key, "point must be 1 .. " + std::to_string(p->path.size()) + " (a path point)");
+    }
+    const std::size_t point = static_cast<std::size_t>(v[1]) - 1;
+    for (const auto& other : p->pauses) {
+      if (other.point == point) ini.fail(s, key, "a second pause at the same point");
+    }
+    p->pauses.push_back({point, positive(ini, s, key, v[2])});
+  }
+  for (auto& p : sc.people) {
+    std::sort(p.pauses.begin(), p.pauses.end(),
+              [](const PauseSpec& a, const PauseSpec& b) { return a.point < b.point; });
+  }
+}
+
 void readPeopleSection(const IniFile& ini, Scenario& sc) {
   const std::string s = "people";
-  for (const auto& [n, key] : numberedKeys(ini, s, "person")) {
+  for (const auto& [n, key] : numberedKeys(ini, s, "person", keysWithPrefix(ini, s, {"legs", "pause"}))) {
     const auto v = ini.getDoubles(s, key);
     if (v.size() < 6 || v.size() % 2 != 0) {
       ini.fail(s, key, "expected \"diameter speed_mps x0 y0 x1 y1 ...\" (two points at least)");
     }
-    PersonSpec p{n, positive(ini, s, key, v[0]), positive(ini, s, key, v[1]), points(v, 2)};
+    PersonSpec p;
+    p.id = n;
+    p.diameter = positive(ini, s, key, v[0]);
+    p.speed_mps = positive(ini, s, key, v[1]);
+    p.path = points(v, 2);
     double length = 0;
     for (std::size_t i = 1; i < p.path.size(); ++i) length += distance(p.path[i - 1], p.path[i]);
     if (length == 0) ini.fail(s, key, "the path has zero length");
     sc.people.push_back(p);
   }
+  readLegs(ini, sc);
+  readPauses(ini, sc);
 }
 
 // ---- checks across sections ---------------------------------------------------------------
@@ -401,20 +465,98 @@ Vec2 moveOrigin(const Scenario& sc, const MoveSpec& m) {
   return p;
 }
 
+namespace {
+
+double pauseAt(const PersonSpec& p, std::size_t point) {
+  for (const auto& q : p.pauses) {
+    if (q.point == point) return q.duration;
+  }
+  return 0;
+}
+
+}  // namespace
+
+PersonPose personPoseAt(const PersonSpec& person, double t) {
+  // One cycle: the pause at the start point (also before the first walk: a walker can wait
+  // there for the robot to see the floor), the legs to the end, each followed by the pause at
+  // the point it arrives at, then the legs back likewise.
+  const auto& pts = person.path;
+  const std::size_t k = pts.size();
+  std::vector<std::size_t> order;  // the points in the order they are walked to
+  for (std::size_t i = 1; i < k; ++i) order.push_back(i);
+  for (std::size_t i = k - 1; i-- > 0;) order.push_back(i);
+  double length = 0, cycle = 0;
+  for (std::size_t i = 1; i < k; ++i) length += distance(pts[i - 1], pts[i]);
+  cycle = 2 * length / person.speed_mps;
+  for (const std::size_t i : order) cycle += pauseAt(person, i);
+  const double cycles = std::floor(t / cycle);
+  double rest = t - cycles * cycle;
+  PersonPose pose;
+  pose.walked = cycles * 2 * length;
+  pose.centre = pts[0];
+  if (rest < pauseAt(person, 0)) {
+    pose.standing = true;
+    return pose;
+  }
+  rest -= pauseAt(person, 0);
+  std::size_t from = 0;
+  for (const std::size_t to : order) {
+    const Vec2 a = pts[from], b = pts[to];
+    const double leg = distance(a, b), walk = leg / person.speed_mps;
+    if (leg > 0) pose.heading = {(b.x - a.x) / leg, (b.y - a.y) / leg};
+    if (rest < walk) {
+      const double f = rest / walk;
+      pose.centre = {a.x + (b.x - a.x) * f, a.y + (b.y - a.y) * f};
+      pose.walked += leg * f;
+      return pose;
+    }
+    rest -= walk;
+    pose.walked += leg;
+    const double stand = to == 0 ? 0.0 : pauseAt(person, to);  // the start's opens the cycle
+    if (rest < stand) {
+      pose.centre = b;
+      pose.standing = true;
+      return pose;
+    }
+    rest -= stand;
+    from = to;
+  }
+  pose.centre = pts[0];  // rounding at the very end of a cycle
+  pose.standing = false;
+  return pose;
+}
+
 Vec2 personPositionAt(const PersonSpec& person, double t) {
-  double length = 0;
-  for (std::size_t i = 1; i < person.path.size(); ++i) {
-    length += distance(person.path[i - 1], person.path[i]);
+  if (person.pauses.empty()) {
+    // Without pauses the walk is the plain back-and-forth of the original format, computed as
+    // it always was so that the bundled rawlogs stay byte-identical.
+    double length = 0;
+    for (std::size_t i = 1; i < person.path.size(); ++i) {
+      length += distance(person.path[i - 1], person.path[i]);
+    }
+    double s = std::fmod(person.speed_mps * t, 2 * length);
+    if (s > length) s = 2 * length - s;  // on the way back
+    for (std::size_t i = 1; i < person.path.size(); ++i) {
+      const Vec2 a = person.path[i - 1], b = person.path[i];
+      const double leg = distance(a, b);
+      if (s <= leg && leg > 0) return {a.x + (b.x - a.x) * s / leg, a.y + (b.y - a.y) * s / leg};
+      s -= leg;
+    }
+    return person.path.back();
   }
-  double s = std::fmod(person.speed_mps * t, 2 * length);
-  if (s > length) s = 2 * length - s;  // on the way back
-  for (std::size_t i = 1; i < person.path.size(); ++i) {
-    const Vec2 a = person.path[i - 1], b = person.path[i];
-    const double leg = distance(a, b);
-    if (s <= leg && leg > 0) return {a.x + (b.x - a.x) * s / leg, a.y + (b.y - a.y) * s / leg};
-    s -= leg;
-  }
-  return person.path.back();
+  return personPoseAt(person, t).centre;
+}
+
+std::vector<Body> personBodies(const PersonSpec& p, double t) {
+  const Vec2 c = personPositionAt(p, t);
+  if (p.leg_diameter <= 0) return {{c, p.diameter / 2, BodyKind::Person, p.id}};
+  const PersonPose pose = personPoseAt(p, t);
+  const double r = p.leg_diameter / 2, side = p.diameter / 2 - r;
+  const double swing =
+      pose.standing || p.stride <= 0 ? 0.0 : p.stride * std::sin(M_PI * pose.walked / p.stride);
+  const Vec2 h = pose.heading, n{-h.y, h.x};
+  return {{{c.x + n.x * side + h.x * swing, c.y + n.y * side + h.y * swing}, r, BodyKind::Person, p.id},
+          {{c.x - n.x * side - h.x * swing, c.y - n.y * side - h.y * swing}, r, BodyKind::Person, p.id}};
 }
 
 std::vector<Body> bodiesAt(const Scenario& sc, double t) {
@@ -424,7 +566,7 @@ std::vector<Body> bodiesAt(const Scenario& sc, double t) {
                    sc.objects[i].id});
   }
   for (const auto& p : sc.people) {
-    out.push_back({personPositionAt(p, t), p.diameter / 2, BodyKind::Person, p.id});
+    for (const Body& b : personBodies(p, t)) out.push_back(b);
   }
   return out;
 }

@@ -204,15 +204,24 @@ std::string format(const char* f, T... v) {
   return buf;
 }
 
+// One row per object, then one per person: a person's legs are summed into the person, whose
+// centre is between them.
 void writeObjectRows(std::ofstream& out, const Scenario& sc, const ScanTruth& st) {
   for (std::size_t b = 0; b < st.bodies.size(); ++b) {
     const Body& body = st.bodies[b];
-    const bool object = body.kind == BodyKind::Object;
-    out << format("%zu,%.3f,%s,%d,%.4f,%.4f,%.3f,%d\n", st.index, st.t,
-                  object ? "object" : "person", body.id, body.centre.x, body.centre.y,
-                  2 * body.radius, st.hits[b]);
+    if (body.kind != BodyKind::Object) continue;
+    out << format("%zu,%.3f,%s,%d,%.4f,%.4f,%.3f,%d\n", st.index, st.t, "object", body.id,
+                  body.centre.x, body.centre.y, 2 * body.radius, st.hits[b]);
   }
-  (void)sc;
+  for (const PersonSpec& p : sc.people) {
+    int hits = 0;
+    for (std::size_t b = 0; b < st.bodies.size(); ++b) {
+      if (st.bodies[b].kind == BodyKind::Person && st.bodies[b].id == p.id) hits += st.hits[b];
+    }
+    const Vec2 c = personPositionAt(p, st.t);
+    out << format("%zu,%.3f,%s,%d,%.4f,%.4f,%.3f,%d\n", st.index, st.t, "person", p.id, c.x, c.y,
+                  p.diameter, hits);
+  }
 }
 
 void writeMoves(const std::string& path, const Scenario& sc) {

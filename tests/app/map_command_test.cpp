@@ -228,3 +228,50 @@ TEST(MapCommandHelp, ExplainsEveryOption) {
 
 }  // namespace
 }  // namespace dynamap
+
+namespace dynamap {
+namespace {
+
+// The timelapse: one frame per --frames-every scans, people drawn, turned into timelapse.mp4 by
+// ffmpeg (installed by make deps; without it the test is skipped, not passed).
+TEST(MapTimelapse, FramesBecomeAVideoOfThemAll) {
+  if (test::run("command -v ffmpeg >/dev/null 2>&1 && command -v ffprobe >/dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "ffmpeg is not installed";
+  }
+  const std::string out = test::tempDir("timelapse");
+  const std::string people = std::string(DYNAMAP_SOURCE_DIR) + "/rawlogs/people/people.rawlog";
+  std::string log;
+  ASSERT_EQ(test::run(std::string(DYNAMAP_EXE) + " map --config " + DYNAMAP_SOURCE_DIR +
+                          "/config/default.ini --poses ground_truth --no-baseline --input " +
+                          people + " --frames-every 100 --out " + out,
+                      &log),
+            0)
+      << log;
+  std::size_t frames = 0;
+  for (const auto& e : std::filesystem::directory_iterator(out + "/frames")) {
+    frames += e.path().extension() == ".png";
+  }
+  EXPECT_EQ(frames, 16u);  // scans 0, 100, ..., 1500
+  std::string count;
+  ASSERT_EQ(test::run("ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+                      "stream=nb_read_frames -of csv=p=0 " +
+                          out + "/timelapse.mp4",
+                      &count),
+            0)
+      << count;
+  EXPECT_EQ(std::stoi(count), 16);
+  // People are on the frames: a frame mid-run holds the trails' magenta.
+  mrpt::img::CImage frame;
+  ASSERT_TRUE(frame.loadFromFile(out + "/frames/000800.png"));
+  std::size_t magenta = 0;
+  for (int y = 0; y < static_cast<int>(frame.getHeight()); ++y) {
+    for (int x = 0; x < static_cast<int>(frame.getWidth()); ++x) {
+      const auto* px = frame.ptr<std::uint8_t>(x, y);  // BGR
+      magenta += px[0] == 200 && px[1] == 0 && px[2] == 200;
+    }
+  }
+  EXPECT_GT(magenta, 20u);
+}
+
+}  // namespace
+}  // namespace dynamap

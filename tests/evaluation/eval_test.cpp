@@ -502,3 +502,55 @@ TEST(EvalTrajectory, HeadingErrorWrapsAroundPi) {
 
 }  // namespace
 }  // namespace dynamap
+
+namespace dynamap {
+namespace {
+
+TruthRow personAt(std::size_t scan, int id, double x, double y, int hits = 5) {
+  TruthRow r;
+  r.scan_index = scan;
+  r.kind = sim::BodyKind::Person;
+  r.id = id;
+  r.x = x;
+  r.y = y;
+  r.diameter = 0.4;
+  r.hits = hits;
+  return r;
+}
+
+TEST(ClearMot, CountsMatchesMissesFalsePositivesAndSwitches) {
+  std::vector<TruthRow> truth;
+  std::vector<PersonTrackRow> tracks;
+  for (std::size_t k = 0; k < 10; ++k) {
+    truth.push_back(personAt(k, 1, 0.1 * k, 0));
+    truth.push_back(personAt(k, 2, 0.1 * k, 3, k == 9 ? 2 : 5));  // scan 9: 2 beams, not counted
+    // Person 1: track 7 at 0.1 m, but scans 6.. track 8 takes over (one switch); scan 3 missed.
+    if (k != 3) tracks.push_back({k, k < 6 ? 7 : 8, 0.1 * k + 0.1, 0});
+    // Person 2: track 9 at 0.05 m every scan (at scan 9 matched to an uncounted person).
+    tracks.push_back({k, 9, 0.1 * k, 3.05});
+    // A ghost 5 m from everyone at scans 0 and 1.
+    if (k < 2) tracks.push_back({k, 10, 5, 5});
+  }
+  const MotScores s = evaluateClearMot(truth, tracks);
+  EXPECT_EQ(s.ground_truth, 19u);
+  EXPECT_EQ(s.matches, 18u);
+  EXPECT_EQ(s.misses, 1u);
+  EXPECT_EQ(s.false_positives, 2u);
+  EXPECT_EQ(s.id_switches, 1u);
+  EXPECT_NEAR(s.mota, 1.0 - 4.0 / 19.0, 1e-12);
+  EXPECT_NEAR(s.motp_m, (9 * 0.1 + 9 * 0.05) / 18.0, 1e-9);
+  EXPECT_EQ(s.people, 2u);
+  EXPECT_EQ(s.track_ids, 4u);
+}
+
+TEST(ClearMot, TrackBeyondTheGateIsAMissAndAFalsePositive) {
+  const std::vector<TruthRow> truth = {personAt(0, 1, 0, 0)};
+  const std::vector<PersonTrackRow> tracks = {{0, 1, 0.8, 0}};
+  const MotScores s = evaluateClearMot(truth, tracks);
+  EXPECT_EQ(s.misses, 1u);
+  EXPECT_EQ(s.false_positives, 1u);
+  EXPECT_DOUBLE_EQ(s.mota, -1.0);
+}
+
+}  // namespace
+}  // namespace dynamap

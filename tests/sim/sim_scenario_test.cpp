@@ -109,6 +109,45 @@ TEST(SimScenario, ObjectsGlideAndJump) {
   EXPECT_DOUBLE_EQ(personPositionAt(sc.people[0], 5).x, 1);
 }
 
+TEST(SimScenario, LegsSwingAndPausesHoldTheWalker) {
+  // 4 m path at 1 m/s; 2 s at its end (point 2), 1 s at its start (point 1, also at t = 0).
+  const Scenario sc = parse(edit("person.1 = 0.4 1.0 -2 1.6 2 1.6",
+                                 "person.1 = 0.4 1.0 -2 1.6 2 1.6\nlegs.1 = 0.1 0.2\n"
+                                 "pause.1 = 1 2 2\npause.2 = 1 1 1"));
+  const PersonSpec& p = sc.people[0];
+  EXPECT_DOUBLE_EQ(personPositionAt(p, 0.5).x, -2);  // waiting at the start
+  EXPECT_DOUBLE_EQ(personPositionAt(p, 2.0).x, -1);  // 1 s of walking
+  EXPECT_DOUBLE_EQ(personPositionAt(p, 6.0).x, 2);   // standing at the end (5 .. 7 s)
+  EXPECT_TRUE(personPoseAt(p, 6.0).standing);
+  EXPECT_DOUBLE_EQ(personPositionAt(p, 8.0).x, 1);   // on the way back
+  EXPECT_DOUBLE_EQ(personPositionAt(p, 11.5).x, -2);  // a cycle is 1 + 4 + 2 + 4 = 11 s
+  // Two legs, 0.1 m each, their centres 0.3 m apart across the walk; standing, side by side.
+  const auto standing = personBodies(p, 6.0);
+  ASSERT_EQ(standing.size(), 2u);
+  EXPECT_DOUBLE_EQ(standing[0].radius, 0.05);
+  EXPECT_NEAR(standing[0].centre.x, 2, 1e-12);
+  EXPECT_NEAR(std::abs(standing[0].centre.y - standing[1].centre.y), 0.3, 1e-12);
+  // Walking, 0.1 m into the gait (a quarter of its 0.4 m cycle): swung 0.2 m fore and aft.
+  const auto walking = personBodies(p, 1.1);
+  EXPECT_NEAR(walking[0].centre.x - walking[1].centre.x, 0.4, 1e-9);
+  // Without legs and pauses, one disc as before.
+  EXPECT_EQ(personBodies(parse(kValid).people[0], 1).size(), 1u);
+}
+
+TEST(SimScenario, BadLegsAndPauses) {
+  const std::string person = "person.1 = 0.4 1.0 -2 1.6 2 1.6";
+  expectError(edit(person, person + "\nlegs.2 = 0.1 0.2"), {"[people] legs.2", "no person.2"});
+  expectError(edit(person, person + "\nlegs.1 = 0.3 0.2"), {"[people] legs.1", "do not fit"});
+  expectError(edit(person, person + "\nlegs.1 = 0.1 -1"), {"[people] legs.1", "stride"});
+  expectError(edit(person, person + "\nlegs.1 = 0.1"), {"[people] legs.1"});
+  expectError(edit(person, person + "\npause.1 = 3 1 2"), {"[people] pause.1", "no person"});
+  expectError(edit(person, person + "\npause.1 = 1 3 2"), {"[people] pause.1", "point must be"});
+  expectError(edit(person, person + "\npause.1 = 1 1 0"), {"[people] pause.1"});
+  expectError(edit(person, person + "\npause.1 = 1 1 2\npause.2 = 1 1 3"),
+              {"[people] pause.2", "same point"});
+  expectError(edit(person, person + "\nstride.1 = 1"), {"[people] stride.1"});
+}
+
 TEST(SimScenario, UnknownSectionOrKey) {
   expectError(std::string(kValid) + "\n[bogus]\nx = 1\n", {"[bogus]"});
   expectError(edit("beams = 91", "beams = 91\nbeamz = 3"), {"[laser]", "beamz"});

@@ -210,4 +210,33 @@ TrajectoryError trajectoryError(const std::vector<TimedPose>& estimate,
 double geometricMean(double a, double b);
 double harmonicMean(double a, double b);
 
+// --- people (CLEAR MOT) --------------------------------------------------------------------------
+
+/// One row of the tracker's people.csv.
+struct PersonTrackRow {
+  std::size_t scan_index = 0;
+  int person_id = 0;
+  double x = 0, y = 0;
+};
+
+struct MotOptions {
+  double gate_m = 0.75;     ///< a track farther than this from a person never matches it
+  int min_visible_hits = 3;  ///< a person with fewer beams on them is not counted
+};
+
+/// CLEAR MOT (Bernardin & Stiefelhagen 2008) over the scans of the truth. Per scan a person
+/// keeps last scan's track when it is still within the gate; the others are matched at minimum
+/// total distance (Hungarian). A person seen by fewer than min_visible_hits beams is not
+/// counted, and a track matched to one is no false positive either (it is where a person is).
+struct MotScores {
+  std::size_t ground_truth = 0;  ///< person-scans counted
+  std::size_t matches = 0, misses = 0, false_positives = 0, id_switches = 0;
+  double mota = 0;    ///< 1 - (misses + false positives + id switches) / ground truth
+  double motp_m = 0;  ///< mean distance of the matches
+  std::size_t people = 0;  ///< persons of the truth seen at all
+  std::size_t track_ids = 0;
+};
+MotScores evaluateClearMot(const std::vector<TruthRow>& truth,
+                           const std::vector<PersonTrackRow>& tracks, const MotOptions& options = {});
+
 }  // namespace dynamap

@@ -41,6 +41,13 @@ class ObjectTracker {
   /// neighbourhood.
   void update(const DynamicGridMap& map, const ScanView& view, double t, std::size_t scan_index);
 
+  /// Discs (x, y, r) where something that keeps moving is (people, from a layer above): a
+  /// cluster centred in one is never confirmed as an object. Applies from the next update on.
+  struct KeepOut {
+    double x, y, r;
+  };
+  void setKeepOut(std::vector<KeepOut> discs) { keep_out_ = std::move(discs); }
+
   const ObjectOptions& options() const { return options_; }
   /// Every object ever reported, by id (objects()[id - 1]); a present object's shape is its
   /// track's estimate as of the last update.
@@ -120,6 +127,8 @@ class ObjectTracker {
   std::vector<TrackedObject> objects_;
   std::vector<EventRecord> events_;
   std::size_t events_before_update_ = 0;
+  std::vector<KeepOut> keep_out_;
+  bool nearKeepOut(const ShapeEstimate& shape) const;
 };
 
 }  // namespace dynamap

@@ -10,6 +10,7 @@
 
 #include "dynamap/mapping/dynamic_grid_map.h"
 #include "dynamap/objects/object_tracker.h"
+#include "dynamap/people/person_tracker.h"
 #include "dynamap/pipeline/robot_path.h"
 
 namespace dynamap {
@@ -37,8 +38,15 @@ View observedView(const DynamicGridMap& map, int margin = 20);
 /// S in grey levels, D cells above object_threshold in red, the robot's path as a thin blue line,
 /// and, given `objects`, each present object's box and circle with a label "<id>: <size> m".
 /// Shows the observed part of the grid (observedView), not the unknown margins around it.
+/// Given `people`, each person's trail as a magenta line with a dot and "P<id>" at its last
+/// position (labels kept apart from each other).
 mrpt::img::CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
-                                const std::vector<TrackedObject>* objects = nullptr);
+                                const std::vector<TrackedObject>* objects = nullptr,
+                                const std::vector<PersonTrail>* people = nullptr);
+
+/// Draws each trail of `people` (see renderOverlay).
+void drawPeople(mrpt::img::CImage& img, const DynamicGridMap& map, const View& view,
+                const std::vector<PersonTrail>& people);
 
 /// Draws each present object of `objects` on an image of `map` in `view`: its box, its
 /// estimated outline, and its label on a filled background, kept inside the image.

@@ -10,6 +10,7 @@
 #include <mrpt/poses/CPose2D.h>
 
 #include "dynamap/objects/object_tracker.h"
+#include "dynamap/people/person_tracker.h"
 
 namespace dynamap {
 
@@ -39,6 +40,18 @@ class TrackLog {
  public:
   explicit TrackLog(const std::string& dir);
   void append(std::size_t scan_index, double t, const ObjectTracker& tracker);
+  void finish() { file_.finish(); }
+
+ private:
+  StreamedFile file_;
+};
+
+/// people.csv: after every scan, one row per person the tracker reports
+/// (`scan_index,t,person_id,x,y,vx,vy`, map frame, metres and m/s).
+class PeopleLog {
+ public:
+  explicit PeopleLog(const std::string& dir);
+  void append(std::size_t scan_index, double t, const PersonTracker& people);
   void finish() { file_.finish(); }
 
  private:

@@ -14,6 +14,7 @@
 #include "dynamap/localization/scan_matcher.h"
 #include "dynamap/mapping/dynamic_grid_map.h"
 #include "dynamap/objects/object_tracker.h"
+#include "dynamap/people/person_tracker.h"
 #include "dynamap/pipeline/robot_path.h"
 
 namespace dynamap {
@@ -25,6 +26,7 @@ struct MapConfig {
   DynamicMapOptions map;
   InsertionOptions insertion;
   ObjectOptions objects;
+  PeopleOptions people;
   ScanMatchOptions scan_matching;       ///< used when poses is ScanMatching
   PoseSource poses = PoseSource::Auto;  ///< [input] poses
   mrpt::poses::CPose2D fixed_pose;      ///< [input] fixed_pose: every scan's pose when Fixed
@@ -65,7 +67,8 @@ struct ScanResult {
   std::size_t object_events = 0;  ///< events the object table gained with this scan
 };
 
-/// The per-scan step: insert into S and D, update the object table, extend the robot's path.
+/// The per-scan step: detect people in S's free space, insert into S and D, track the people,
+/// update the object table (never where a person is), extend the robot's path.
 class Mapper {
  public:
   explicit Mapper(const MapConfig& config);
@@ -78,6 +81,7 @@ class Mapper {
   const DynamicGridMap& map() const { return map_; }
   DynamicGridMap& map() { return map_; }
   const ObjectTracker& tracker() const { return tracker_; }
+  const PersonTracker& people() const { return people_; }
   /// The robot's path (RobotPath: decimated and bounded).
   const std::vector<PathPoint>& path() const { return path_.points(); }
   const RunCounts& counts() const { return counts_; }
@@ -95,6 +99,7 @@ class Mapper {
   MapConfig config_;
   DynamicGridMap map_;
   ObjectTracker tracker_;
+  PersonTracker people_;
   RobotPath path_;
   RunCounts counts_;
   bool have_t_ = false;

@@ -50,11 +50,28 @@ struct MoveSpec {
   double tEnd() const { return t_start + duration; }
 };
 
+/// A stop of a walker at one point of its path, each time it arrives there.
+struct PauseSpec {
+  std::size_t point = 0;  ///< 0-based index into the path
+  double duration = 0;    ///< [s]
+};
+
 struct PersonSpec {
   int id = 0;  ///< the n of person.<n>
-  double diameter = 0;
+  double diameter = 0;     ///< the whole body's width (legs: from one leg's outside to the other's)
   double speed_mps = 0;
   std::vector<Vec2> path;  ///< walked to its end and back, for the whole run
+  double leg_diameter = 0;  ///< > 0: seen as two legs of this diameter (legs.<n>), else one disc
+  double stride = 0;        ///< [m] each leg swings this far fore and aft of the body (legs.<n>)
+  std::vector<PauseSpec> pauses;  ///< by point (pause.<n>)
+};
+
+/// Where a walker is at one moment and how its legs stand.
+struct PersonPose {
+  Vec2 centre;
+  Vec2 heading{1, 0};   ///< unit vector of the leg being walked
+  double walked = 0;    ///< [m] distance walked since t = 0 (the gait's phase)
+  bool standing = false;  ///< in a pause
 };
 
 struct Scenario {
@@ -82,9 +99,15 @@ Scenario parseScenario(const IniFile& ini, const std::string& base_dir);
 Vec2 objectPositionAt(const Scenario& scenario, std::size_t index, double t);
 /// Where the object of move m stands when the move begins.
 Vec2 moveOrigin(const Scenario& scenario, const MoveSpec& m);
-/// Where a person is at time t (walking the path to its end and back).
+/// Where a person is at time t (walking the path to its end and back, standing at its pauses).
 Vec2 personPositionAt(const PersonSpec& person, double t);
-/// Every object and person as a laser target at time t: objects first (by id), then people.
+PersonPose personPoseAt(const PersonSpec& person, double t);
+/// The laser targets of a person at time t: one disc, or two legs side by side whose fore-aft
+/// offsets swing as +-stride * sin(pi * walked / stride) (opposite for the two legs; still
+/// while standing).
+std::vector<Body> personBodies(const PersonSpec& person, double t);
+/// Every object and person as a laser target at time t: objects first (by id), then people
+/// (by id; a person with legs is two bodies of the same id).
 std::vector<Body> bodiesAt(const Scenario& scenario, double t);
 
 }  // namespace dynamap::sim

@@ -1,0 +1,55 @@
+#pragma once
+// Options of the people tracker (section [people]): how the scan's hit points in the static
+// map's free space become person detections, and how detections become tracks.
+
+#include <iosfwd>
+#include <string>
+
+#include "dynamap/base/option_table.h"
+
+namespace dynamap {
+
+/// Section [people]. Lengths in metres, times in seconds.
+struct PeopleOptions {
+  static constexpr const char* kSection = "people";
+
+  bool enabled = true;            ///< track people at all (false: people.csv has only its header)
+  double cluster_distance = 0.1;  ///< [m] consecutive hit points this close form one cluster; (0, 1]
+  int min_points = 2;             ///< a cluster of fewer hit points is no detection; [1, 100]
+  double max_leg_width = 0.25;    ///< [m] clusters up to this wide are legs (paired); (0, 2]
+  double max_person_width = 0.8;  ///< [m] wider clusters are not a person; [max_leg_width, 5]
+  double leg_pair_distance = 0.8;  ///< [m] two legs whose centres are this close are one person; [0, 2]
+  int wall_guard_cells = 1;       ///< a hit with a cell S does not hold free this near is no detection; [0, 5]
+  double gate = 0.6;              ///< [m] a detection farther than this from a track's prediction never updates it; (0, 5]
+  double accel_std = 1.0;         ///< [m/s^2] the constant-velocity model's process noise; (0, 100]
+  double measurement_std = 0.1;   ///< [m] a detection's position noise; (0, 1]
+  /// [s] a new track is a person once it has kept moving (moving_speed) this long without a
+  /// pause; [0, 600]
+  double confirm_s = 0.6;
+  /// [s] ...this long when it appeared within static_clearance of a cell S holds occupied: an
+  /// object that stood in S and is moved away glides a few seconds and stays, a person walks
+  /// on; [confirm_s, 600]
+  double confirm_static_s = 6.0;
+  double static_clearance = 0.35;  ///< [m] see confirm_static_s; [0, 2]
+  double moving_speed = 0.25;     ///< [m/s] slower than this a track is not moving; [0, 10]
+  double confirm_travel = 0.5;    ///< [m] ...and has gone this far from where it appeared; [0, 100]
+  double tentative_miss_s = 0.6;  ///< [s] a tentative track unseen this long ends; (0, 60]
+  double coast_s = 4.0;           ///< [s] a person unseen (and out of view) this long ends; (0, 600]
+  double hold_radius = 0.15;      ///< [m] a beam ending this near a lost person holds them; [0, 2]
+  int empty_scans = 3;            ///< a lost person's place seen empty this many scans in a row ends them; [1, 1000]
+  /// [m] no object is confirmed this near a person; 0 = off (the default: with confirm_s = 1 a
+  /// gliding cylinder is confirmed as a person for a while, and keeping objects out there cost
+  /// the arena 11 of its 20 object moves); [0, 5]
+  double exclusion_radius = 0.0;
+
+  /// Every key of [people], declared once (config.ini, default.ini and the README follow it).
+  static const OptionTable<PeopleOptions>& table();
+  /// Strict load of [people]: unknown keys, malformed or out-of-range values throw ConfigError.
+  void load(const IniFile& ini);
+  /// Throws ConfigError ("<source>: [people] key: why") for the first rule broken.
+  void validate(const std::string& source) const;
+  /// Writes the section, one key per line with its meaning (reloadable).
+  void writeIni(std::ostream& out) const;
+};
+
+}  // namespace dynamap

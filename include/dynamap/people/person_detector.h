@@ -1,0 +1,75 @@
+#pragma once
+// Person detections from one scan: the scan's hit points that fall where the static map S holds
+// free space (Wolf & Sukhatme's condition for "something moved in"), cut into clusters of
+// neighbouring beams; leg-sized clusters close together are paired into one person. A wall is
+// never Free in S, so its points never make a detection.
+//
+// The steps are free functions over plain data so that each can be tested without a map.
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <cstddef>
+#include <vector>
+
+#include "dynamap/people/people_options.h"
+
+namespace dynamap {
+
+class DynamicGridMap;
+
+/// One beam's end point in the map frame.
+struct HitPoint2 {
+  double x = 0, y = 0;
+  std::size_t beam = 0;
+};
+
+/// The sensor's position and the hit points of one scan (beams with an echo within max_range).
+struct ScanHits {
+  double sensor_x = 0, sensor_y = 0;
+  std::vector<HitPoint2> points;  ///< in beam order
+  /// Per beam: the range [m] of its echo, or < 0 without one (for "is this place seen empty").
+  std::vector<float> ranges;
+  std::vector<double> angles;  ///< per beam: its direction in the map frame [rad]
+  double max_range = 0;        ///< [m] a beam without an echo saw free space this far
+  double step = 0;             ///< [rad] between neighbouring beams
+};
+ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& robot,
+                  double max_range);
+
+/// The points of `hits` whose cell, and every cell within wall_guard_cells of it, S holds free.
+std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& hits,
+                                     int wall_guard_cells);
+
+/// A run of hit points of neighbouring beams (at most one beam skipped), each within
+/// cluster_distance of the one before, or within twice the beams' spacing at its range
+/// (`beam_step` rad): far away, one body's points lie wider apart than near.
+struct PointCluster {
+  double cx = 0, cy = 0;  ///< [m] centre of the round body the points lie on (see clusterCentre)
+  double width = 0;       ///< [m] widest distance between two of its points
+  std::size_t points = 0;
+};
+/// Splits `points` (in beam order) into clusters; clusters of fewer than min_points are dropped.
+std::vector<PointCluster> clusterPoints(const std::vector<HitPoint2>& points, double sensor_x,
+                                        double sensor_y, const PeopleOptions& options,
+                                        double beam_step = 0);
+
+/// A person seen in this scan.
+struct PersonDetection {
+  double x = 0, y = 0;
+  int legs = 0;  ///< 2: a pair of legs; 1: one leg; 0: one body-sized cluster
+  /// A cell S holds occupied, or an object cell of D, lies within static_clearance of it (set
+  /// by detectPeople): it may be an object leaving the place it stood at.
+  bool near_static = false;
+};
+/// Legs (clusters up to max_leg_width) are paired greedily, nearest pair first, when their
+/// centres are within leg_pair_distance: the person is at the pair's midpoint. An unpaired leg
+/// and a cluster up to max_person_width are a person on their own; wider clusters are dropped.
+std::vector<PersonDetection> pairLegs(const std::vector<PointCluster>& clusters,
+                                      const PeopleOptions& options);
+
+/// The whole detection step: freeSpaceHits, clusterPoints, pairLegs, and near_static.
+std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanHits& hits,
+                                          const PeopleOptions& options);
+
+}  // namespace dynamap

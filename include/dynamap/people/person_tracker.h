@@ -1,0 +1,146 @@
+#pragma once
+// PersonTracker: multi-target tracking of the people the detector sees.
+//
+// Each track is a constant-velocity Kalman filter (state x y vx vy). Per scan every track is
+// predicted to the scan's time, detections farther than `gate` from a prediction are ruled out,
+// and the remaining pairs are assigned globally at minimum total distance (the Hungarian
+// method); unassigned detections start tentative tracks.
+//
+// Life of a track: Tentative (new; must keep moving for confirm_s and go confirm_travel from
+// where it appeared; confirm_static_s when it appeared next to something S holds: a moved
+// object glides out of its place for a few seconds and then stays, a person walks on) -> Confirmed (a person, with an id) -> Coasting (not detected this scan) -> Ended. A coasting
+// person whose place the scan shows occupied (a beam ends within hold_radius) is held: a person
+// who stopped keeps their id, however long, until they walk on (a detection again) or their
+// place is seen empty for empty_scans scans; out of view, a coasting person ends after coast_s.
+
+#include <cstddef>
+#include <variant>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dynamap/people/people_options.h"
+#include "dynamap/people/person_detector.h"
+
+namespace dynamap {
+
+/// A constant-velocity Kalman filter in the plane.
+class ConstantVelocityFilter {
+ public:
+  ConstantVelocityFilter(double x, double y, double position_std, double velocity_std);
+  /// Moves the state dt seconds ahead; accel_std [m/s^2] is the white-acceleration noise.
+  void predict(double dt, double accel_std);
+  /// Corrects with a position measured with std `measurement_std`.
+  void update(double x, double y, double measurement_std);
+  /// Sets the velocity (and its uncertainty) to zero: a person seen standing.
+  void stop(double velocity_std);
+  double x() const { return s_(0); }
+  double y() const { return s_(1); }
+  double vx() const { return s_(2); }
+  double vy() const { return s_(3); }
+
+ private:
+  Eigen::Vector4d s_;
+  Eigen::Matrix4d p_;
+};
+
+/// The states of a track, each with what only it needs.
+struct TentativeState {
+  double moving_since_t = 0;  ///< it has been moving since then, without a pause
+  double from_x = 0, from_y = 0;  ///< where it was then
+  bool near_static = false;       ///< appeared near S's occupied cells: confirm_static_s
+};
+struct ConfirmedState {};
+struct CoastingState {
+  double since_t = 0;   ///< last detected
+  int empty_scans = 0;  ///< consecutive scans that saw its place empty
+  bool held = false;    ///< this scan saw its place occupied
+};
+struct EndedState {
+  double t = 0;
+};
+enum class PersonState { Tentative, Confirmed, Coasting, Ended };
+const char* toString(PersonState s);
+
+struct PersonTrack {
+  int key = 0;  ///< internal, in order of creation
+  int id = 0;   ///< person id once confirmed (1, 2, ...), 0 while tentative
+  ConstantVelocityFilter filter;
+  std::variant<TentativeState, ConfirmedState, CoastingState, EndedState> state;
+  double last_detected_t = 0;
+  double first_reported_t = 0, last_reported_t = 0;
+  double path_length = 0;  ///< [m] along its reported positions
+  double last_x = 0, last_y = 0;
+
+  PersonState kind() const { return static_cast<PersonState>(state.index()); }
+  /// Confirmed, or coasting after having been confirmed: a person.
+  bool isPerson() const { return id != 0 && kind() != PersonState::Ended; }
+};
+
+/// One row of people.csv.
+struct PersonRow {
+  int person_id;
+  double x, y, vx, vy;
+};
+
+/// Where a person walked, for pictures: a point each time they moved kTrailStep from the last.
+struct PersonTrail {
+  int id = 0;
+  std::vector<std::pair<double, double>> points;
+};
+
+/// Per-person figures for summary.json.
+struct PersonSummary {
+  int id;
+  double first_t, last_t;
+  double path_length;
+};
+
+class PersonTracker {
+ public:
+  explicit PersonTracker(const PeopleOptions& options = {});
+
+  /// The per-scan step with this scan's detections and its hits (for "is the place seen").
+  void update(const std::vector<PersonDetection>& detections, const ScanHits& hits, double t);
+
+  /// The people to report for the last scan: confirmed tracks and held (stopped) people, by id.
+  std::vector<PersonRow> reported() const;
+  /// Every track alive (not ended), tentative ones included.
+  const std::vector<PersonTrack>& tracks() const { return tracks_; }
+  /// Every person ever confirmed, by id (ended ones included).
+  std::vector<PersonSummary> summaries() const;
+  /// Every person's trail, by id (ended ones included). At most kMaxTrailPoints points in all:
+  /// past that, trails stop growing (the pictures of a very long run show its start).
+  std::vector<PersonTrail> trails() const;
+  static constexpr double kTrailStep = 0.1;              // [m]
+  static constexpr std::size_t kMaxTrailPoints = 200000;
+  /// Where people are now (confirmed or coasting): no object may be reported there.
+  std::vector<std::pair<double, double>> personPositions() const;
+  const PeopleOptions& options() const { return options_; }
+
+ private:
+  void predictAll(double t);
+  std::vector<int> associate(const std::vector<PersonDetection>& detections) const;
+  void correct(PersonTrack& tr, const PersonDetection& d, double t);
+  void miss(PersonTrack& tr, const ScanHits& hits, double t);
+  void advanceTentative(PersonTrack& tr, double t);
+  void endTrack(PersonTrack& tr, double t);
+  void record(PersonTrack& tr, double t);
+
+  PeopleOptions options_;
+  std::vector<PersonTrack> tracks_;  // alive, by key
+  std::vector<PersonSummary> ended_;
+  std::vector<PersonTrail> trails_;  // by id: trails_[id - 1]
+  std::size_t trail_points_ = 0;
+  bool have_t_ = false;
+  double last_t_ = 0;
+  int next_key_ = 1;
+  int next_id_ = 1;
+};
+
+/// What a scan shows of the disc (x, y, r): Occupied when a beam ends in it, Empty when beams
+/// cross it without ending there, Unseen when none reaches it.
+enum class DiscView { Unseen, Empty, Occupied };
+DiscView viewDisc(const ScanHits& hits, double x, double y, double r);
+
+}  // namespace dynamap

@@ -1,0 +1,72 @@
+#include "dynamap/people/people_options.h"
+
+#include <ostream>
+
+#include "dynamap/base/ini.h"
+
+namespace dynamap {
+
+const OptionTable<PeopleOptions>& PeopleOptions::table() {
+  using O = PeopleOptions;
+  static const OptionTable<O> t(
+      kSection,
+      {
+          {"enabled", &O::enabled, {}, "", "track people at all (false: people.csv holds only its header)"},
+          {"cluster_distance", &O::cluster_distance, Range::openClosed(0, 1), "m",
+           "consecutive hit points this close form one cluster"},
+          {"min_points", &O::min_points, Range::closed(1, 100), "", "fewer hit points is no detection"},
+          {"max_leg_width", &O::max_leg_width, Range::openClosed(0, 2), "m",
+           "clusters up to this wide are legs"},
+          {"max_person_width", &O::max_person_width, Range::closed(0, 5), "m",
+           "wider clusters are no person (at least max_leg_width)"},
+          {"leg_pair_distance", &O::leg_pair_distance, Range::closed(0, 2), "m",
+           "two legs this close (centres) are one person"},
+          {"wall_guard_cells", &O::wall_guard_cells, Range::closed(0, 5), "",
+           "a hit this many cells near a cell S does not hold free is no detection"},
+          {"gate", &O::gate, Range::openClosed(0, 5), "m",
+           "a detection farther than this from a track's prediction never updates it"},
+          {"accel_std", &O::accel_std, Range::openClosed(0, 100), "m/s^2",
+           "the constant-velocity model's process noise"},
+          {"measurement_std", &O::measurement_std, Range::openClosed(0, 1), "m",
+           "detection noise (twice this for a leg seen alone)"},
+          {"confirm_s", &O::confirm_s, Range::closed(0, 600), "s",
+           "a new track is a person after moving this long without a pause"},
+          {"confirm_static_s", &O::confirm_static_s, Range::closed(0, 600), "s",
+           "...this long when it appeared near a cell S holds occupied (at least confirm_s)"},
+          {"static_clearance", &O::static_clearance, Range::closed(0, 2), "m", "...this near"},
+          {"moving_speed", &O::moving_speed, Range::closed(0, 10), "m/s",
+           "a track slower than this is not moving"},
+          {"confirm_travel", &O::confirm_travel, Range::closed(0, 100), "m",
+           "...and it must go this far from where it started moving"},
+          {"tentative_miss_s", &O::tentative_miss_s, Range::openClosed(0, 60), "s",
+           "a tentative track unseen this long ends"},
+          {"coast_s", &O::coast_s, Range::openClosed(0, 600), "s",
+           "a person unseen and out of view this long ends"},
+          {"hold_radius", &O::hold_radius, Range::closed(0, 2), "m",
+           "a beam ending this near a lost person holds them (stopped)"},
+          {"empty_scans", &O::empty_scans, Range::closed(1, 1000), "",
+           "a lost person's place seen empty this many scans in a row ends them"},
+          {"exclusion_radius", &O::exclusion_radius, Range::closed(0, 5), "m",
+           "no object is confirmed this near a person; 0 = off"},
+      });
+  return t;
+}
+
+void PeopleOptions::load(const IniFile& ini) {
+  table().load(ini, *this);
+  validate(ini.name());
+}
+
+void PeopleOptions::validate(const std::string& src) const {
+  table().checkRanges(*this, src);
+  if (max_person_width < max_leg_width) {
+    rejectValue(src, kSection, "max_person_width", "must be at least max_leg_width");
+  }
+  if (confirm_static_s < confirm_s) {
+    rejectValue(src, kSection, "confirm_static_s", "must be at least confirm_s");
+  }
+}
+
+void PeopleOptions::writeIni(std::ostream& out) const { table().write(*this, out); }
+
+}  // namespace dynamap

@@ -1,0 +1,173 @@
+#include "dynamap/people/person_detector.h"
+
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "dynamap/mapping/dynamic_grid_map.h"
+
+namespace dynamap {
+
+ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& robot,
+                  double max_range) {
+  ScanHits h;
+  const std::size_t n = scan.getScanSize();
+  const mrpt::poses::CPose3D sensor3d = mrpt::poses::CPose3D(robot) + scan.sensorPose;
+  const mrpt::poses::CPose2D sensor(sensor3d);
+  // A laser mounted upside down sweeps the other way in the map frame.
+  const bool upside_down =
+      sensor3d.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>()(2, 2) < 0;
+  const double dir = (scan.rightToLeft ^ upside_down) ? 1.0 : -1.0;
+  const double first = n > 1 ? -0.5 * scan.aperture : 0.0;
+  const double step = n > 1 ? scan.aperture / static_cast<double>(n - 1) : 0.0;
+  h.sensor_x = sensor.x();
+  h.sensor_y = sensor.y();
+  h.max_range = max_range;
+  h.step = std::abs(step);
+  h.ranges.resize(n);
+  h.angles.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = sensor.phi() + dir * (first + step * static_cast<double>(i));
+    h.angles[i] = a;
+    const float r = scan.getScanRange(i);
+    const bool echo = scan.getScanRangeValidity(i) && std::isfinite(r) && r >= 0.0f;
+    h.ranges[i] = echo ? std::min(r, static_cast<float>(max_range)) : -1.0f;
+    // An echo at the cut-off is where the insertion stops, not a surface.
+    if (!echo || r >= max_range) continue;
+    h.points.push_back({h.sensor_x + r * std::cos(a), h.sensor_y + r * std::sin(a), i});
+  }
+  return h;
+}
+
+std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& hits,
+                                     int guard) {
+  std::vector<HitPoint2> out;
+  for (const HitPoint2& p : hits.points) {
+    const int cx = map.x2idx(p.x), cy = map.y2idx(p.y);
+    bool free = true;
+    for (int dy = -guard; dy <= guard && free; ++dy) {
+      for (int dx = -guard; dx <= guard && free; ++dx) free = map.isStaticFree(cx + dx, cy + dy);
+    }
+    if (free) out.push_back(p);
+  }
+  return out;
+}
+
+namespace {
+
+// The points' centroid pushed away from the sensor: the beams see the near half of a round body,
+// whose points lie on average pi/4 of its radius in front of its centre.
+PointCluster summarise(const std::vector<HitPoint2>& pts, std::size_t begin, std::size_t end,
+                       double sx, double sy) {
+  PointCluster c;
+  c.points = end - begin;
+  double mx = 0, my = 0;
+  for (std::size_t i = begin; i < end; ++i) {
+    mx += pts[i].x;
+    my += pts[i].y;
+    for (std::size_t j = begin; j < i; ++j) {
+      c.width = std::max(c.width, std::hypot(pts[i].x - pts[j].x, pts[i].y - pts[j].y));
+    }
+  }
+  // Each edge lies between the last beam that hit and the next one: half a beam gap beyond.
+  if (c.points > 1) c.width += c.width / static_cast<double>(c.points - 1);
+  mx /= static_cast<double>(c.points);
+  my /= static_cast<double>(c.points);
+  const double d = std::hypot(mx - sx, my - sy);
+  const double push = d > 0 ? 0.25 * M_PI * 0.5 * c.width / d : 0.0;
+  c.cx = mx + (mx - sx) * push;
+  c.cy = my + (my - sy) * push;
+  return c;
+}
+
+}  // namespace
+
+std::vector<PointCluster> clusterPoints(const std::vector<HitPoint2>& pts, double sx, double sy,
+                                        const PeopleOptions& o, double beam_step) {
+  std::vector<PointCluster> out;
+  std::size_t begin = 0;
+  for (std::size_t i = 1; i <= pts.size(); ++i) {
+    bool split = i == pts.size() || pts[i].beam > pts[i - 1].beam + 2;
+    if (!split) {
+      const double range = std::hypot(pts[i].x - sx, pts[i].y - sy);
+      const double join = std::max(o.cluster_distance, 2.0 * range * beam_step);
+      split = std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y) > join;
+    }
+    if (!split) continue;
+    if (i - begin >= static_cast<std::size_t>(o.min_points)) {
+      out.push_back(summarise(pts, begin, i, sx, sy));
+    }
+    begin = i;
+  }
+  return out;
+}
+
+std::vector<PersonDetection> pairLegs(const std::vector<PointCluster>& clusters,
+                                      const PeopleOptions& o) {
+  std::vector<std::size_t> legs;
+  std::vector<PersonDetection> out;
+  for (std::size_t i = 0; i < clusters.size(); ++i) {
+    if (clusters[i].width <= o.max_leg_width) {
+      legs.push_back(i);
+    } else if (clusters[i].width <= o.max_person_width) {
+      out.push_back({clusters[i].cx, clusters[i].cy, 0});
+    }
+  }
+  // Every pair of legs close enough, nearest first (ties by index: deterministic).
+  struct Pair {
+    double d;
+    std::size_t a, b;
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t i = 0; i < legs.size(); ++i) {
+    for (std::size_t j = i + 1; j < legs.size(); ++j) {
+      const PointCluster &a = clusters[legs[i]], &b = clusters[legs[j]];
+      const double d = std::hypot(a.cx - b.cx, a.cy - b.cy);
+      if (d <= o.leg_pair_distance) pairs.push_back({d, i, j});
+    }
+  }
+  std::stable_sort(pairs.begin(), pairs.end(),
+                   [](const Pair& p, const Pair& q) { return p.d < q.d; });
+  std::vector<char> used(legs.size(), 0);
+  for (const Pair& p : pairs) {
+    if (used[p.a] || used[p.b]) continue;
+    used[p.a] = used[p.b] = 1;
+    const PointCluster &a = clusters[legs[p.a]], &b = clusters[legs[p.b]];
+    out.push_back({0.5 * (a.cx + b.cx), 0.5 * (a.cy + b.cy), 2});
+  }
+  for (std::size_t i = 0; i < legs.size(); ++i) {
+    if (!used[i]) out.push_back({clusters[legs[i]].cx, clusters[legs[i]].cy, 1});
+  }
+  return out;
+}
+
+namespace {
+
+bool nearStatic(const DynamicGridMap& map, double x, double y, double clearance) {
+  const double res = map.getResolution();
+  const int n = static_cast<int>(std::ceil(clearance / res));
+  const int cx = map.x2idx(x), cy = map.y2idx(y);
+  for (int dy = -n; dy <= n; ++dy) {
+    for (int dx = -n; dx <= n; ++dx) {
+      if (std::hypot(dx, dy) * res > clearance) continue;
+      // Occupied in S, or an object D holds: something that stood here, not someone walking.
+      if (map.staticOccupancy(cx + dx, cy + dy) > 0.5f || map.isObjectCell(cx + dx, cy + dy))
+        return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanHits& hits,
+                                          const PeopleOptions& o) {
+  const std::vector<HitPoint2> free = freeSpaceHits(map, hits, o.wall_guard_cells);
+  std::vector<PersonDetection> out = pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
+  for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o.static_clearance);
+  return out;
+}
+
+}  // namespace dynamap

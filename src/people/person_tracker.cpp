@@ -1,0 +1,264 @@
+#include "dynamap/people/person_tracker.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "dynamap/people/hungarian.h"
+
+namespace dynamap {
+
+// --- the filter --------------------------------------------------------------------------------
+
+ConstantVelocityFilter::ConstantVelocityFilter(double x, double y, double position_std,
+                                               double velocity_std) {
+  s_ << x, y, 0, 0;
+  p_.setZero();
+  p_(0, 0) = p_(1, 1) = position_std * position_std;
+  p_(2, 2) = p_(3, 3) = velocity_std * velocity_std;
+}
+
+void ConstantVelocityFilter::predict(double dt, double accel_std) {
+  if (!(dt > 0)) return;
+  Eigen::Matrix4d f = Eigen::Matrix4d::Identity();
+  f(0, 2) = f(1, 3) = dt;
+  // White acceleration, integrated over the step (the discrete Wiener process model).
+  const double q = accel_std * accel_std, dt2 = dt * dt;
+  Eigen::Matrix4d qm = Eigen::Matrix4d::Zero();
+  qm(0, 0) = qm(1, 1) = q * dt2 * dt2 / 4;
+  qm(0, 2) = qm(2, 0) = qm(1, 3) = qm(3, 1) = q * dt2 * dt / 2;
+  qm(2, 2) = qm(3, 3) = q * dt2;
+  s_ = f * s_;
+  p_ = f * p_ * f.transpose() + qm;
+}
+
+void ConstantVelocityFilter::update(double x, double y, double measurement_std) {
+  const Eigen::Vector2d innovation(x - s_(0), y - s_(1));
+  Eigen::Matrix2d s = p_.topLeftCorner<2, 2>();
+  s(0, 0) += measurement_std * measurement_std;
+  s(1, 1) += measurement_std * measurement_std;
+  const Eigen::Matrix<double, 4, 2> k = p_.leftCols<2>() * s.inverse();
+  s_ += k * innovation;
+  p_ -= k * p_.topRows<2>();
+  p_ = 0.5 * (p_ + p_.transpose());  // keep it symmetric against rounding
+}
+
+void ConstantVelocityFilter::stop(double velocity_std) {
+  s_(2) = s_(3) = 0;
+  p_.block<2, 2>(2, 0).setZero();
+  p_.block<2, 2>(0, 2).setZero();
+  p_.block<2, 2>(2, 2) = Eigen::Matrix2d::Identity() * velocity_std * velocity_std;
+}
+
+const char* toString(PersonState s) {
+  switch (s) {
+    case PersonState::Tentative: return "tentative";
+    case PersonState::Confirmed: return "confirmed";
+    case PersonState::Coasting: return "coasting";
+    case PersonState::Ended: return "ended";
+  }
+  return "?";
+}
+
+DiscView viewDisc(const ScanHits& h, double x, double y, double r) {
+  constexpr double kMargin = 0.05;  // [m] range noise and the body's own depth
+  int occupied = 0, crossed = 0;
+  for (std::size_t i = 0; i < h.angles.size(); ++i) {
+    const double dx = x - h.sensor_x, dy = y - h.sensor_y;
+    const double c = std::cos(h.angles[i]), s = std::sin(h.angles[i]);
+    const double along = dx * c + dy * s, perp = std::abs(dx * s - dy * c);
+    if (along <= 0 || perp >= r) continue;
+    const double half = std::sqrt(r * r - perp * perp);
+    const double range = h.ranges[i] < 0 ? h.max_range : h.ranges[i];
+    if (range < along - half - kMargin) continue;  // hidden behind something nearer
+    if (range <= along + half + kMargin) {
+      ++occupied;
+    } else {
+      ++crossed;
+    }
+  }
+  if (occupied > 0) return DiscView::Occupied;
+  return crossed > 0 ? DiscView::Empty : DiscView::Unseen;
+}
+
+// --- the tracker -------------------------------------------------------------------------------
+
+namespace {
+constexpr double kInitialVelocityStd = 1.0;  // [m/s] a new track could walk any way
+constexpr double kStoppedVelocityStd = 0.1;  // [m/s] a person seen standing
+double speedOf(const ConstantVelocityFilter& f) { return std::hypot(f.vx(), f.vy()); }
+}  // namespace
+
+PersonTracker::PersonTracker(const PeopleOptions& options) : options_(options) {}
+
+void PersonTracker::predictAll(double t) {
+  const double dt = have_t_ ? t - last_t_ : 0.0;
+  for (PersonTrack& tr : tracks_) tr.filter.predict(dt, options_.accel_std);
+  have_t_ = true;
+  last_t_ = t;
+}
+
+std::vector<int> PersonTracker::associate(const std::vector<PersonDetection>& dets) const {
+  const double inf = std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd cost(static_cast<Eigen::Index>(tracks_.size()),
+                       static_cast<Eigen::Index>(dets.size()));
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    // A person lost for a while may have turned: the gate widens with the time unseen, at
+    // walking pace (1 m/s), up to three times its size.
+    const double unseen = std::max(0.0, last_t_ - tracks_[i].last_detected_t);
+    const double gate =
+        tracks_[i].id != 0 ? std::min(3 * options_.gate, options_.gate + unseen) : options_.gate;
+    for (std::size_t j = 0; j < dets.size(); ++j) {
+      const double d =
+          std::hypot(tracks_[i].filter.x() - dets[j].x, tracks_[i].filter.y() - dets[j].y);
+      cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d <= gate ? d : inf;
+    }
+  }
+  return solveAssignment(cost, inf);
+}
+
+void PersonTracker::advanceTentative(PersonTrack& tr, double t) {
+  auto& st = std::get<TentativeState>(tr.state);
+  if (speedOf(tr.filter) < options_.moving_speed) {  // a pause: the clock starts again
+    st = {t, tr.filter.x(), tr.filter.y(), st.near_static};
+    return;
+  }
+  const double travel = std::hypot(tr.filter.x() - st.from_x, tr.filter.y() - st.from_y);
+  const double needed = st.near_static ? options_.confirm_static_s : options_.confirm_s;
+  if (t - st.moving_since_t < needed || travel < options_.confirm_travel) return;
+  tr.id = next_id_++;
+  trails_.push_back({tr.id, {}});
+  tr.state = ConfirmedState{};
+  tr.first_reported_t = t;
+  tr.last_x = tr.filter.x();
+  tr.last_y = tr.filter.y();
+}
+
+void PersonTracker::correct(PersonTrack& tr, const PersonDetection& d, double t) {
+  // One leg alone lies off the person's centre by up to half a stride: trusted less.
+  const double std = d.legs == 1 ? 2 * options_.measurement_std : options_.measurement_std;
+  tr.filter.update(d.x, d.y, std);
+  tr.last_detected_t = t;
+  if (tr.kind() == PersonState::Tentative) {
+    advanceTentative(tr, t);
+  } else {
+    tr.state = ConfirmedState{};
+  }
+}
+
+void PersonTracker::miss(PersonTrack& tr, const ScanHits& hits, double t) {
+  if (tr.kind() == PersonState::Tentative) {
+    if (t - tr.last_detected_t > options_.tentative_miss_s) endTrack(tr, t);
+    return;
+  }
+  if (tr.kind() == PersonState::Confirmed) tr.state = CoastingState{tr.last_detected_t, 0, false};
+  auto& st = std::get<CoastingState>(tr.state);
+  switch (viewDisc(hits, tr.filter.x(), tr.filter.y(), options_.hold_radius)) {
+    case DiscView::Occupied:  // still there, no longer in S's free space: standing
+      st = {t, 0, true};
+      if (speedOf(tr.filter) < options_.moving_speed) tr.filter.stop(kStoppedVelocityStd);
+      return;
+    case DiscView::Empty:
+      st.held = false;
+      if (++st.empty_scans >= options_.empty_scans) endTrack(tr, t);
+      return;
+    case DiscView::Unseen:
+      st.held = false;
+      st.empty_scans = 0;
+      if (t - st.since_t > options_.coast_s) endTrack(tr, t);
+      return;
+  }
+}
+
+void PersonTracker::endTrack(PersonTrack& tr, double t) {
+  if (tr.id != 0) ended_.push_back({tr.id, tr.first_reported_t, tr.last_reported_t, tr.path_length});
+  tr.state = EndedState{t};
+}
+
+void PersonTracker::record(PersonTrack& tr, double t) {
+  tr.path_length += std::hypot(tr.filter.x() - tr.last_x, tr.filter.y() - tr.last_y);
+  tr.last_x = tr.filter.x();
+  tr.last_y = tr.filter.y();
+  tr.last_reported_t = t;
+  auto& pts = trails_[static_cast<std::size_t>(tr.id - 1)].points;
+  const bool far = pts.empty() || std::hypot(tr.filter.x() - pts.back().first,
+                                             tr.filter.y() - pts.back().second) >= kTrailStep;
+  if (far && trail_points_ < kMaxTrailPoints) {
+    pts.emplace_back(tr.filter.x(), tr.filter.y());
+    ++trail_points_;
+  }
+}
+
+namespace {
+bool isReported(const PersonTrack& tr) {
+  if (tr.id == 0) return false;
+  if (tr.kind() == PersonState::Confirmed) return true;
+  const auto* c = std::get_if<CoastingState>(&tr.state);
+  return c != nullptr && c->held;
+}
+}  // namespace
+
+void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanHits& hits,
+                           double t) {
+  predictAll(t);
+  const std::vector<int> match = associate(dets);
+  std::vector<char> used(dets.size(), 0);
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    if (match[i] >= 0) {
+      used[static_cast<std::size_t>(match[i])] = 1;
+      correct(tracks_[i], dets[static_cast<std::size_t>(match[i])], t);
+    } else {
+      miss(tracks_[i], hits, t);
+    }
+  }
+  tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
+                               [](const PersonTrack& tr) { return tr.kind() == PersonState::Ended; }),
+                tracks_.end());
+  for (std::size_t j = 0; j < dets.size(); ++j) {
+    if (used[j]) continue;
+    PersonTrack tr{next_key_++, 0,
+                   ConstantVelocityFilter(dets[j].x, dets[j].y, options_.measurement_std,
+                                          kInitialVelocityStd),
+                   TentativeState{t, dets[j].x, dets[j].y, dets[j].near_static}};
+    tr.last_detected_t = t;
+    tracks_.push_back(tr);
+  }
+  for (PersonTrack& tr : tracks_) {
+    if (isReported(tr)) record(tr, t);
+  }
+}
+
+std::vector<PersonRow> PersonTracker::reported() const {
+  std::vector<PersonRow> out;
+  for (const PersonTrack& tr : tracks_) {
+    if (isReported(tr)) {
+      out.push_back({tr.id, tr.filter.x(), tr.filter.y(), tr.filter.vx(), tr.filter.vy()});
+    }
+  }
+  std::sort(out.begin(), out.end(),
+            [](const PersonRow& a, const PersonRow& b) { return a.person_id < b.person_id; });
+  return out;
+}
+
+std::vector<PersonSummary> PersonTracker::summaries() const {
+  std::vector<PersonSummary> out = ended_;
+  for (const PersonTrack& tr : tracks_) {
+    if (tr.id != 0) out.push_back({tr.id, tr.first_reported_t, tr.last_reported_t, tr.path_length});
+  }
+  std::sort(out.begin(), out.end(),
+            [](const PersonSummary& a, const PersonSummary& b) { return a.id < b.id; });
+  return out;
+}
+
+std::vector<PersonTrail> PersonTracker::trails() const { return trails_; }
+
+std::vector<std::pair<double, double>> PersonTracker::personPositions() const {
+  std::vector<std::pair<double, double>> out;
+  for (const PersonTrack& tr : tracks_) {
+    if (tr.isPerson()) out.emplace_back(tr.filter.x(), tr.filter.y());
+  }
+  return out;
+}
+
+}  // namespace dynamap

@@ -1,0 +1,109 @@
+// Person detections: clusters of neighbouring beams, legs paired into people, hit points kept
+// only where the static map holds free space.
+
+#include "dynamap/people/person_detector.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../test_util.h"
+#include "dynamap/mapping/dynamic_grid_map.h"
+
+namespace dynamap {
+namespace {
+
+// Points on the near side of a disc (cx, cy, r) seen from the origin, one per beam of `step`.
+std::vector<HitPoint2> arc(double cx, double cy, double r, double step, std::size_t first_beam) {
+  std::vector<HitPoint2> out;
+  const double d = std::hypot(cx, cy), bearing = std::atan2(cy, cx), half = std::asin(r / d);
+  std::size_t beam = first_beam;
+  for (double a = bearing - half + step / 2; a < bearing + half; a += step) {
+    // The near intersection of the ray with the circle.
+    const double along = d * std::cos(a - bearing), perp = d * std::sin(a - bearing);
+    const double t = along - std::sqrt(r * r - perp * perp);
+    out.push_back({t * std::cos(a), t * std::sin(a), beam++});
+  }
+  return out;
+}
+
+TEST(ClusterPoints, SplitsOnDistanceAndOnBeamGapsAndFindsTheCentre) {
+  const double step = M_PI / 360;
+  auto pts = arc(3, 0, 0.2, step, 0);
+  const std::size_t n = pts.size();
+  auto far = arc(3, 1.0, 0.2, step, n + 5);  // five beams later: another cluster
+  pts.insert(pts.end(), far.begin(), far.end());
+  const auto clusters = clusterPoints(pts, 0, 0, PeopleOptions{});
+  ASSERT_EQ(clusters.size(), 2u);
+  EXPECT_EQ(clusters[0].points, n);
+  // The centroid of the near half pushed back by pi/4 of the radius: within 2 cm of the centre.
+  EXPECT_NEAR(clusters[0].cx, 3.0, 0.02);
+  EXPECT_NEAR(clusters[0].cy, 0.0, 0.01);
+  EXPECT_NEAR(clusters[0].width, 0.4, 0.03);
+}
+
+TEST(ClusterPoints, FewerThanMinPointsIsNoCluster) {
+  PeopleOptions o;
+  o.min_points = 3;
+  const std::vector<HitPoint2> two = {{1, 0, 0}, {1, 0.01, 1}};
+  EXPECT_TRUE(clusterPoints(two, 0, 0, o).empty());
+}
+
+TEST(PairLegs, TwoLegsCloseTogetherAreOnePersonBetweenThem) {
+  const std::vector<PointCluster> c = {{2.0, 0.15, 0.12, 5}, {2.0, -0.15, 0.12, 5}};
+  const auto d = pairLegs(c, PeopleOptions{});
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].legs, 2);
+  EXPECT_DOUBLE_EQ(d[0].x, 2.0);
+  EXPECT_DOUBLE_EQ(d[0].y, 0.0);
+}
+
+TEST(PairLegs, NearestPairsFirstAndFarLegsStayAlone) {
+  // Legs at y = 0, 0.3 (one person), 0.75 (0.45 from the second: a pair too, but the second is
+  // taken by the nearer first), and a leg 3 m away.
+  const std::vector<PointCluster> c = {
+      {2, 0, 0.1, 4}, {2, 0.3, 0.1, 4}, {2, 0.75, 0.1, 4}, {5, 0, 0.1, 4}};
+  const auto d = pairLegs(c, PeopleOptions{});
+  ASSERT_EQ(d.size(), 3u);
+  EXPECT_EQ(d[0].legs, 2);
+  EXPECT_DOUBLE_EQ(d[0].y, 0.15);
+  EXPECT_EQ(d[1].legs, 1);
+  EXPECT_DOUBLE_EQ(d[1].y, 0.75);
+  EXPECT_EQ(d[2].legs, 1);
+  EXPECT_DOUBLE_EQ(d[2].x, 5);
+}
+
+TEST(PairLegs, BodySizedClustersAreAPersonAndWiderOnesNothing) {
+  const std::vector<PointCluster> c = {{1, 1, 0.45, 9}, {3, 3, 1.5, 30}};
+  const auto d = pairLegs(c, PeopleOptions{});
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].legs, 0);
+  EXPECT_DOUBLE_EQ(d[0].x, 1);
+}
+
+TEST(DetectPeople, HitsOnAWallAreNeverADetection) {
+  // A 6 x 4 m room seen 20 times: its inside is Free in S, its walls are not.
+  DynamicGridMap map;
+  const mrpt::poses::CPose2D pose(0, 0, 0);
+  const int n = 181;
+  const auto ranges = test::roomRanges(-3, 3, -2, 2, pose, n, M_PI);
+  for (int i = 0; i < 20; ++i) {
+    map.insertObservation(*test::makeScan(ranges, M_PI, i * 0.2), mrpt::poses::CPose3D(pose));
+  }
+  const auto scan = test::makeScan(ranges, M_PI, 5.0);
+  const ScanHits hits = scanHits(*scan, pose, 15.0);
+  EXPECT_EQ(hits.points.size(), static_cast<std::size_t>(n));
+  EXPECT_TRUE(freeSpaceHits(map, hits, 1).empty());
+  EXPECT_TRUE(detectPeople(map, hits, PeopleOptions{}).empty());
+  // A person-sized bump 1 m in front of the sensor, inside the free room: one detection.
+  std::vector<float> bumped = ranges;
+  for (int i = 85; i <= 95; ++i) bumped[static_cast<std::size_t>(i)] = 1.0f;
+  const auto d = detectPeople(map, scanHits(*test::makeScan(bumped, M_PI, 5.2), pose, 15.0),
+                              PeopleOptions{});
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_NEAR(d[0].x, 1.0, 0.1);
+  EXPECT_NEAR(d[0].y, 0.0, 0.02);
+}
+
+}  // namespace
+}  // namespace dynamap

@@ -1,0 +1,218 @@
+// PersonTracker: the Kalman filter, and whole runs of the Mapper over small simulated worlds
+// (known poses) in which walkers walk, cross, follow a wall, stop, and a cylinder is moved.
+
+#include "dynamap/people/person_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "../test_util.h"
+#include "dynamap/base/ini.h"
+#include "dynamap/pipeline/mapper.h"
+#include "dynamap/sim/scenario.h"
+#include "dynamap/sim/simulator.h"
+
+namespace dynamap {
+namespace {
+
+TEST(ConstantVelocityFilter, ConvergesToTheVelocityOfEvenlySpacedPositions) {
+  ConstantVelocityFilter f(0, 0, 0.05, 1.0);
+  for (int k = 1; k <= 50; ++k) {
+    f.predict(0.2, 1.0);
+    f.update(0.2 * k * 1.2, -0.2 * k * 0.5, 0.05);  // 1.2 m/s along x, -0.5 along y
+  }
+  EXPECT_NEAR(f.vx(), 1.2, 0.01);
+  EXPECT_NEAR(f.vy(), -0.5, 0.01);
+  EXPECT_NEAR(f.x(), 12.0, 0.01);
+}
+
+TEST(ViewDisc, OccupiedEmptyAndUnseen) {
+  ScanHits h;
+  h.max_range = 8;
+  for (int i = 0; i < 181; ++i) h.angles.push_back(-M_PI / 2 + M_PI * i / 180);
+  h.ranges.assign(181, 5.0f);
+  EXPECT_EQ(viewDisc(h, 3, 0, 0.2), DiscView::Empty);     // beams pass through to 5 m
+  EXPECT_EQ(viewDisc(h, 5, 0, 0.2), DiscView::Occupied);  // they end there
+  EXPECT_EQ(viewDisc(h, 7, 0, 0.2), DiscView::Unseen);    // hidden behind the 5 m surface
+  EXPECT_EQ(viewDisc(h, -3, 0, 0.2), DiscView::Unseen);   // behind the sensor
+}
+
+// --- runs over simulated worlds ----------------------------------------------------------------
+
+// A 20 m wide hall, 2 * half_height tall; the robot stands at `robot` ("x y") looking along +x
+// with a 361-beam, 180 deg, 20 m laser at 5 Hz (every beam echoes; insertion cuts at 15 m); `extra` adds [objects], [moves], [people].
+// Walkers walk across the robot's view: one walking straight away from a standing robot walks
+// into its own shadow, where S has never seen the floor free.
+std::string hall(const std::string& extra, double duration_s, const std::string& robot = "-9 0",
+                 double half_height = 5) {
+  const std::string h = std::to_string(half_height), mh = std::to_string(-half_height);
+  return "[scenario]\nname = t\nduration_s = " + std::to_string(duration_s) +
+         "\nseed = 7\n[world]\nwall.1 = -10 " + mh + " 10 " + mh + "\nwall.2 = 10 " + mh + " 10 " +
+         h + "\nwall.3 = 10 " + h + " -10 " + h + "\nwall.4 = -10 " + h + " -10 " + mh +
+         "\n[robot]\nwaypoints = " + robot +
+         "\n[laser]\nbeams = 361\nfov_deg = 180\nmax_range_m = 20\nrange_noise_std_m = 0.01\n" +
+         extra;
+}
+
+struct Row {
+  double t;
+  PersonRow p;
+};
+struct WorldRun {
+  std::vector<Row> rows;               // every reported person, every scan
+  std::vector<sim::ScanTruth> truth;   // every scan
+  std::vector<PersonSummary> people;
+  std::size_t objects = 0;
+};
+
+WorldRun runWorld(const std::string& ini_text, MapConfig config = {}) {
+  const sim::Scenario sc = sim::parseScenario(IniFile::fromText(ini_text, "t.ini"), ".");
+  Mapper mapper(config);
+  sim::Simulator simulator(sc);
+  sim::ScanTruth st;
+  WorldRun out;
+  while (simulator.next(st)) {
+    std::vector<float> ranges(st.ranges.size());
+    for (std::size_t i = 0; i < ranges.size(); ++i) ranges[i] = st.valid[i] ? st.ranges[i] : 0.f;
+    ScanRecord rec;
+    rec.index = st.index;
+    rec.t = st.t;
+    rec.pose = mrpt::poses::CPose2D(st.pose.x, st.pose.y, st.pose.phi);
+    rec.scan = test::makeScan(ranges, sc.laser.fov_deg * M_PI / 180, st.t, 20.0f);
+    mapper.process(rec);
+    for (const PersonRow& p : mapper.people().reported()) out.rows.push_back({st.t, p});
+    out.truth.push_back(st);
+  }
+  out.people = mapper.people().summaries();
+  out.objects = mapper.tracker().objects().size();
+  return out;
+}
+
+// The true centre of person `id` at scan k (between its legs).
+sim::Vec2 truthOf(const sim::Scenario& sc, int id, double t) {
+  for (const auto& p : sc.people) {
+    if (p.id == id) return sim::personPositionAt(p, t);
+  }
+  return {};
+}
+
+// The person ids reported within `gate` of the true person `id`, over the run but for
+// [skip_from, skip_to] (while two walkers are too close together to tell whose row is whose).
+std::set<int> idsNear(const WorldRun& r, const sim::Scenario& sc, int id, double gate,
+                      double skip_from = 0, double skip_to = -1) {
+  std::set<int> ids;
+  for (const Row& row : r.rows) {
+    if (row.t >= skip_from && row.t <= skip_to) continue;
+    const sim::Vec2 c = truthOf(sc, id, row.t);
+    if (std::hypot(row.p.x - c.x, row.p.y - c.y) < gate) ids.insert(row.p.person_id);
+  }
+  return ids;
+}
+
+sim::Scenario scenarioOf(const std::string& text) {
+  return sim::parseScenario(IniFile::fromText(text, "t.ini"), ".");
+}
+
+TEST(PersonTracking, ConstantVelocityWalkerHasOneIdAndItsVelocity) {
+  const std::string text =
+      hall("[people]\nperson.1 = 0.45 1.0  -3 -4.5  -3 4.5\nlegs.1 = 0.15 0.25\n", 8.8);
+  const WorldRun r = runWorld(text);
+  ASSERT_EQ(r.people.size(), 1u);
+  ASSERT_GT(r.rows.size(), 5u);
+  for (const Row& row : r.rows) EXPECT_EQ(row.p.person_id, 1);
+  // Its velocity, averaged over the rows before it turns at the end of its path (8.5 s).
+  double vx = 0, vy = 0;
+  int n = 0;
+  for (const Row& row : r.rows) {
+    if (row.t > 8.4) continue;
+    vx += row.p.vx;
+    vy += row.p.vy;
+    ++n;
+  }
+  ASSERT_GT(n, 3);
+  EXPECT_NEAR(vx / n, 0.0, 0.1);
+  EXPECT_NEAR(vy / n, 1.0, 0.1);
+  const Row& last = r.rows.back();
+  const sim::Vec2 c = truthOf(scenarioOf(text), 1, last.t);
+  EXPECT_NEAR(last.p.x, c.x, 0.15);
+  EXPECT_NEAR(last.p.y, c.y, 0.1);
+  EXPECT_EQ(r.objects, 0u);
+}
+
+TEST(PersonTracking, TwoWalkersCrossingKeepTheirIds) {
+  // Both wait 3 s behind the robot (out of its view), then walk diagonally across the hall at
+  // 0.8 m/s, crossing at (-3.3, 0) at 12.3 s.
+  const std::string text = hall(
+      "[people]\nperson.1 = 0.45 0.8  -9.6 -4  3 4\nlegs.1 = 0.15 0.25\npause.1 = 1 1 3\n"
+      "person.2 = 0.45 0.8  -9.6 4  3 -4\nlegs.2 = 0.15 0.25\npause.2 = 2 1 3\n",
+      20);
+  const sim::Scenario sc = scenarioOf(text);
+  const WorldRun r = runWorld(text);
+  // Within 0.4 m of each other from 11.8 s to 12.8 s.
+  const std::set<int> a = idsNear(r, sc, 1, 0.4, 11.5, 13.1);
+  const std::set<int> b = idsNear(r, sc, 2, 0.4, 11.5, 13.1);
+  ASSERT_EQ(a.size(), 1u);
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_NE(*a.begin(), *b.begin());
+  // Both are still tracked after the crossing.
+  bool a_after = false, b_after = false;
+  for (const Row& row : r.rows) {
+    if (row.t < 15) continue;
+    a_after |= row.p.person_id == *a.begin();
+    b_after |= row.p.person_id == *b.begin();
+  }
+  EXPECT_TRUE(a_after);
+  EXPECT_TRUE(b_after);
+}
+
+TEST(PersonTracking, WalkerAlongAWallIsTrackedAndTheWallIsNot) {
+  // Along the wall y = -5, the body's edge 0.1 m from it, after 3 s behind the robot.
+  const std::string text = hall(
+      "[people]\nperson.1 = 0.45 1.0  -9.6 -4.675  6 -4.675\nlegs.1 = 0.15 0.25\n"
+      "pause.1 = 1 1 3\n",
+      17);
+  const WorldRun r = runWorld(text);
+  ASSERT_EQ(r.people.size(), 1u);
+  EXPECT_EQ(idsNear(r, scenarioOf(text), 1, 0.3), std::set<int>{1});
+  for (const Row& row : r.rows) EXPECT_GT(row.p.y, -4.9) << "t = " << row.t;
+}
+
+TEST(PersonTracking, WalkerWhoStopsKeepsTheId) {
+  // Walks 8 m, stands 12 s at (-3, 3.5), walks back.
+  const std::string text = hall(
+      "[people]\nperson.1 = 0.45 1.0  -3 -4.5  -3 3.5\nlegs.1 = 0.15 0.25\npause.1 = 1 2 12\n",
+      28);
+  const sim::Scenario sc = scenarioOf(text);
+  MapConfig config;
+  config.people.exclusion_radius = 0.5;  // and no object is confirmed where they stand
+  const WorldRun r = runWorld(text, config);
+  ASSERT_EQ(r.people.size(), 1u);
+  EXPECT_EQ(idsNear(r, sc, 1, 0.4), std::set<int>{1});
+  // Reported all the time it stands (8 s .. 20 s) and after it walks on.
+  std::size_t standing = 0, after = 0;
+  for (const Row& row : r.rows) {
+    standing += row.t > 8.5 && row.t < 19.5;
+    after += row.t > 21;
+  }
+  EXPECT_EQ(standing, 55u);
+  EXPECT_GT(after, 20u);
+  EXPECT_EQ(r.objects, 0u);
+}
+
+TEST(PersonTracking, MovedCylinderIsNoPerson) {
+  // A 0.4 m cylinder glides 5 m in 5 s (a walker's pace), then stands; one jumps 3 m at once.
+  const std::string text = hall(
+      "[objects]\nobject.1 = 0.4 -3 -4\nobject.2 = 0.3 -4 2\n[moves]\nmove.1 = 4 1 -3 1 5\n"
+      "move.2 = 10 2 -1 2 0\n",
+      25);
+  const WorldRun r = runWorld(text);
+  EXPECT_TRUE(r.people.empty());
+  EXPECT_TRUE(r.rows.empty());
+
+}
+
+}  // namespace
+}  // namespace dynamap
