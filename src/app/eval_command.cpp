@@ -573,6 +573,39 @@ std::vector<EvaluatedResult> readEvaluated(const std::vector<std::string>& dirs)
   return results;
 }
 
+// The rows of the summary table: a label, its key in metrics.json, the paper's figures.
+struct SummaryRow {
+  const char* label;
+  const char* key;
+  const int* paper;
+};
+const SummaryRow kSummaryRows[] = {
+    {"moves", "moves_total", kPaperMoves},
+    {"moves visible", "moves_visible", nullptr},
+    {"correctly detected", "correctly_detected", kPaperDetected},
+    {"not detected", "not_detected", kPaperNotDetected},
+    {"static detected as objects", "static_detected_as_objects", kPaperStatic},
+    {"size estimation errors", "size_estimation_errors", kPaperSize},
+    {"latency median (s)", "latency_median_s", nullptr},
+    {"latency max (s)", "latency_max_s", nullptr},
+    {"SA % dynamap", "dynamap_sa", nullptr},
+    {"SA % plain MRPT", "mrpt_sa", nullptr},
+    {"DA % dynamap", "dynamap_da", nullptr},
+    {"DA % plain MRPT", "mrpt_da", nullptr},
+    {"AA % dynamap", "dynamap_aa", nullptr},
+    {"AA % plain MRPT", "mrpt_aa", nullptr},
+    {"HA % dynamap", "dynamap_ha", nullptr},
+    {"HA % plain MRPT", "mrpt_ha", nullptr},
+    {"S u D precision %", "union_precision", nullptr},
+    {"S u D recall %", "union_recall", nullptr},
+    {"ATE position RMSE (m)", "ate_rmse_xy_m", nullptr},
+    {"ATE heading RMSE (deg)", "ate_rmse_phi_deg", nullptr},
+    {"people MOTA", "mota", nullptr},
+    {"people MOTP (m)", "motp_m", nullptr},
+    {"people identity switches", "mot_id_switches", nullptr},
+    {"people misses", "mot_misses", nullptr},
+    {"people false positives", "mot_false_positives", nullptr},
+};
 int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
   const std::vector<EvaluatedResult> results = readEvaluated(dirs);
   constexpr int kLabel = 28, kColumn = 11;
@@ -585,39 +618,8 @@ int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
   o << "| ";
   for (const auto& r : results) o << std::setw(kColumn - 1) << r.name << ' ';
   o << "\n";
-  struct Row {
-    const char* label;
-    const char* key;
-    const int* paper;
-  };
-  const Row rows[] = {
-      {"moves", "moves_total", kPaperMoves},
-      {"moves visible", "moves_visible", nullptr},
-      {"correctly detected", "correctly_detected", kPaperDetected},
-      {"not detected", "not_detected", kPaperNotDetected},
-      {"static detected as objects", "static_detected_as_objects", kPaperStatic},
-      {"size estimation errors", "size_estimation_errors", kPaperSize},
-      {"latency median (s)", "latency_median_s", nullptr},
-      {"latency max (s)", "latency_max_s", nullptr},
-      {"SA % dynamap", "dynamap_sa", nullptr},
-      {"SA % plain MRPT", "mrpt_sa", nullptr},
-      {"DA % dynamap", "dynamap_da", nullptr},
-      {"DA % plain MRPT", "mrpt_da", nullptr},
-      {"AA % dynamap", "dynamap_aa", nullptr},
-      {"AA % plain MRPT", "mrpt_aa", nullptr},
-      {"HA % dynamap", "dynamap_ha", nullptr},
-      {"HA % plain MRPT", "mrpt_ha", nullptr},
-      {"S u D precision %", "union_precision", nullptr},
-      {"S u D recall %", "union_recall", nullptr},
-      {"ATE position RMSE (m)", "ate_rmse_xy_m", nullptr},
-      {"ATE heading RMSE (deg)", "ate_rmse_phi_deg", nullptr},
-      {"people MOTA", "mota", nullptr},
-      {"people MOTP (m)", "motp_m", nullptr},
-      {"people identity switches", "mot_id_switches", nullptr},
-      {"people misses", "mot_misses", nullptr},
-      {"people false positives", "mot_false_positives", nullptr},
-  };
-  for (const auto& row : rows) {
+
+  for (const auto& row : kSummaryRows) {
     o << std::setw(kLabel) << row.label;
     for (int c = 0; c < 4; ++c) {
       // The paper gives its latency only as "1-2 s from the change to the table update".

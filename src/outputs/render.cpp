@@ -134,6 +134,34 @@ CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& pa
   return img;
 }
 
+namespace {
+
+// Beside the end point: right, left, above, below, then the same one and two label sizes
+// further out; the first place that covers no label of `labels` (else the first place).
+std::array<int, 4> placeLabel(Pixel end, int lw, int lh, int w, int h,
+                              const std::vector<std::array<int, 4>>& labels) {
+  auto clamped = [&](int x, int y) {
+    return std::array<int, 4>{std::clamp(x, 0, std::max(0, w - lw - 1)),
+                              std::clamp(y, 0, std::max(0, h - lh - 1)), 0, 0};
+  };
+  for (int ring = 0; ring < 3; ++ring) {
+    const int dx = 4 + ring * lw, dy = lh / 2 + ring * (lh + 1);
+    for (const auto& c : {clamped(end.x + dx, end.y - lh / 2),
+                          clamped(end.x - dx - lw, end.y - lh / 2),
+                          clamped(end.x - lw / 2, end.y - dy - lh),
+                          clamped(end.x - lw / 2, end.y + dy)}) {
+      bool clear = true;
+      for (const auto& l : labels) {
+        clear = clear && !(c[0] <= l[2] && l[0] <= c[0] + lw && c[1] <= l[3] && l[1] <= c[1] + lh);
+      }
+      if (clear) return c;
+    }
+  }
+  return clamped(end.x + 4, end.y - lh / 2);
+}
+
+}  // namespace
+
 void drawPeople(CImage& img, const DynamicGridMap& map, const View& view,
                 const std::vector<PersonTrail>& people) {
   // Magenta: apart from the red of D, the green of object boxes and the blue of the robot.
@@ -154,31 +182,7 @@ void drawPeople(CImage& img, const DynamicGridMap& map, const View& view,
     img.filledRectangle(end.x - 2, end.y - 2, end.x + 2, end.y + 2, trail);
     const std::string label = "P" + std::to_string(p.id);
     const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
-    // Beside the end point: right, left, above, below, then the same one and two label sizes
-    // further out; the first place that covers no other label (else the first place).
-    auto clamped = [&](int x, int y) {
-      return std::array<int, 4>{std::clamp(x, 0, std::max(0, w - lw - 1)),
-                                std::clamp(y, 0, std::max(0, h - lh - 1)), 0, 0};
-    };
-    std::array<int, 4> at = clamped(end.x + 4, end.y - lh / 2);
-    bool found = false;
-    for (int ring = 0; ring < 3 && !found; ++ring) {
-      const int dx = 4 + ring * lw, dy = lh / 2 + ring * (lh + 1);
-      for (const auto& c : {clamped(end.x + dx, end.y - lh / 2),
-                            clamped(end.x - dx - lw, end.y - lh / 2),
-                            clamped(end.x - lw / 2, end.y - dy - lh),
-                            clamped(end.x - lw / 2, end.y + dy)}) {
-        bool clear = true;
-        for (const auto& l : labels) {
-          clear = clear && !(c[0] <= l[2] && l[0] <= c[0] + lw && c[1] <= l[3] && l[1] <= c[1] + lh);
-        }
-        if (clear) {
-          at = c;
-          found = true;
-          break;
-        }
-      }
-    }
+    const auto at = placeLabel(end, lw, lh, w, h, labels);
     const int x = at[0], y = at[1];
     labels.push_back({x, y, x + lw, y + lh});
     img.filledRectangle(x, y, x + lw, y + lh, trail);
