@@ -136,6 +136,12 @@ CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& pa
 
 namespace {
 
+// A box or a label on a picture, in pixels (inclusive).
+struct Rect {
+  int x0, y0, x1, y1;
+  bool overlaps(const Rect& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
+};
+
 // Beside the end point: right, left, above, below, then the same one and two label sizes
 // further out; the first place that covers no label of `labels` (else the first place).
 std::array<int, 4> placeLabel(Pixel end, int lw, int lh, int w, int h,
@@ -199,12 +205,6 @@ void drawObjects(CImage& img, const DynamicGridMap& map, const View& view,
   img.selectTextFont(big ? "9x15B" : "6x13B");
   const int char_w = big ? 9 : 6, char_h = big ? 15 : 13;
   const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
-  struct Rect {
-    int x0, y0, x1, y1;
-    bool overlaps(const Rect& o) const {
-      return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1;
-    }
-  };
   // Boxes first, then each label beside its box where it covers no other box and no label:
   // above, below, then the same on the right edge, then further up.
   std::vector<Rect> boxes;
