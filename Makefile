@@ -31,6 +31,7 @@ ROSBAG_PACKAGES := librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-
 DEB_PACKAGES := cmake g++ make \
   libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
   libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
+  libmrpt-graphslam-dev \
   libeigen3-dev libboost-program-options-dev libgtest-dev \
   mrpt-common ffmpeg $(ROSBAG_PACKAGES)
 

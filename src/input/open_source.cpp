@@ -22,7 +22,8 @@ std::unique_ptr<ScanSource> openBag(const std::string& path, PoseSource source,
 #endif
 }
 
-std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource source) {
+/// `slam`: the run asked for pose source slam, which needs the log's odometry.
+std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource source, bool slam) {
   const std::string head = fileHead(path, 256);
   if (head.empty()) throw InputError(path + ": empty file");
   if (head.find("CSimpleMap") != std::string::npos) {
@@ -40,6 +41,12 @@ std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource sour
   }
   if (source == PoseSource::Simplemap) {
     throw InputError(path + ": pose source simplemap needs a .simplemap file");
+  }
+  if (slam && !peekRawlog(path).odometry) {
+    throw InputError(path + ": pose source slam needs odometry, and the log has none");
+  }
+  if (slam && !peekRawlog(path).odometry) {
+    throw InputError(path + ": pose source slam needs odometry, and the log has none");
   }
   if (source == PoseSource::Auto) {
     const RawlogPeek peek = peekRawlog(path);
@@ -62,13 +69,15 @@ std::unique_ptr<ScanSource> openScanSource(const std::string& path, const InputO
   if (!fileExists(path)) throw InputError(path + ": no such file");
   PoseSource source = options.poses;
   if (source == PoseSource::ScanMatching) source = PoseSource::Odometry;  // corrected by Mapper
+  const bool slam = source == PoseSource::Slam;  // odometry, turned into poses by the pipeline
+  if (slam) source = PoseSource::Odometry;
   std::unique_ptr<ScanSource> inner;
   if (looksLikeRosBag(path)) {
     inner = openBag(path, source, options.bag);
   } else if (looksLikeCarmen(path)) {
     inner = openCarmenSource(path, source, options.carmen);
   } else {
-    inner = openMrptLog(path, source);
+    inner = openMrptLog(path, source, slam);
   }
   if (source == PoseSource::Fixed) return withFixedPose(std::move(inner), options.fixed_pose);
   return inner;

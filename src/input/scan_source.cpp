@@ -28,8 +28,9 @@ PoseSource parsePoseSource(const std::string& name) {
   if (name == "odometry") return PoseSource::Odometry;
   if (name == "scan_matching") return PoseSource::ScanMatching;
   if (name == "fixed") return PoseSource::Fixed;
+  if (name == "slam") return PoseSource::Slam;
   throw std::invalid_argument("unknown pose source '" + name +
-                              "' (auto, simplemap, ground_truth, odometry, scan_matching, fixed)");
+                              "' (auto, simplemap, ground_truth, odometry, scan_matching, fixed, slam)");
 }
 
 std::string toString(PoseSource source) {
@@ -46,6 +47,8 @@ std::string toString(PoseSource source) {
       return "scan_matching";
     case PoseSource::Fixed:
       return "fixed";
+    case PoseSource::Slam:
+      return "slam";
   }
   return "?";
 }

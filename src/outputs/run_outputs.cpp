@@ -86,6 +86,25 @@ void writeScanMatchSummary(std::ostream& o, const ScanMatchCounts& c) {
     << "  },\n";
 }
 
+// Pass 1 of pose source slam: what the front end matched, the loop closures, the optimiser.
+void writeSlamSummary(std::ostream& o, const SlamRun& run) {
+  const SlamStats& s = run.slam->stats();
+  o << "  \"slam\": {\n"
+    << "    \"scans\": " << s.scans << ",\n"
+    << "    \"front_end_matched\": " << s.matched << ",\n"
+    << "    \"front_end_fallbacks\": " << s.fallbacks << ",\n"
+    << "    \"submaps\": " << s.submaps << ",\n"
+    << "    \"loop_searches\": " << s.loop_attempts << ",\n"
+    << "    \"loop_closures\": {\"proposed\": " << s.loops_proposed
+    << ", \"accepted\": " << s.loops_accepted << ", \"rejected\": " << s.loops_rejected
+    << ", \"rejected_ambiguous\": " << s.loops_ambiguous << "},\n"
+    << "    \"optimiser\": {\"runs\": " << s.optimisations << ", \"iterations\": " << s.iterations
+    << ", \"final_error\": " << fmt("%.6g", s.final_error)
+    << ", \"converged\": " << (s.converged ? "true" : "false") << "},\n"
+    << "    \"poses\": " << jsonString(s.converged ? "optimised" : "front end (the optimiser did not converge)")
+    << "\n  },\n";
+}
+
 void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& source,
                   const OutputInfo& info) {
   const DynamicGridMap& m = mapper.map();
@@ -133,6 +152,7 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
   writeObjectSummary(o, mapper.tracker());
   writePeopleSummary(o, mapper.people());
   if (mapper.scanMatching()) writeScanMatchSummary(o, mapper.scanMatchCounts());
+  if (info.slam) writeSlamSummary(o, *info.slam);
   if (info.baseline) writeBaselineSummary(o, m, *info.baseline);
   o << "  \"timing\": {\n"
     << "    \"note\": \"the only part of the outputs that differs between identical runs\",\n"
@@ -143,6 +163,9 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
     o << ",\n    \"mrpt_baseline_wall_s\": " << std::setprecision(3) << info.baseline_wall_s
       << ",\n    \"mrpt_baseline_scans_per_s\": " << std::setprecision(1)
       << (info.baseline_wall_s > 0 ? c.scans_used / info.baseline_wall_s : 0.0);
+  }
+  if (info.slam) {  // wall_s is pass 2's
+    o << ",\n    \"slam_pass1_wall_s\": " << std::setprecision(3) << info.slam->wall_s;
   }
   o << "\n  }\n"
     << "}\n";
@@ -168,6 +191,11 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
                       [&](std::ostream& o) { writeEventsCsv(o, mapper.tracker()); });
   if (info.baseline)
     saveImageAtomically(renderStatic(info.baseline->grid()), dir, "mrpt_plain.png");
+  if (info.slam) {
+    const std::string tmp = tempName(dir, "graph.g2o");
+    info.slam->slam->graph().saveG2o(tmp);
+    commit(tmp, dir, "graph.g2o");
+  }
   writeFileAtomically(dir, "summary.json",
                       [&](std::ostream& o) { writeSummary(o, mapper, source, info); });
 }

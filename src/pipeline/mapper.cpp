@@ -15,13 +15,14 @@ namespace dynamap {
 MapConfig MapConfig::load(const IniFile& ini) {
   ini.requireKnownSections({DynamicMapOptions::kSection, InsertionOptions::kSection,
                             ObjectOptions::kSection, PeopleOptions::kSection,
-                            ScanMatchOptions::kSection, "input"});
+                            ScanMatchOptions::kSection, SlamOptions::kSection, "input"});
   MapConfig c;
   c.map.load(ini);
   c.insertion.load(ini);
   c.objects.load(ini);
   c.people.load(ini);
   c.scan_matching.load(ini);
+  c.slam.load(ini);
   ini.requireKnownKeys("input", {"poses", "fixed_pose"});
   const std::string poses = ini.getString("input", "poses", "auto");
   try {
@@ -56,6 +57,10 @@ void MapConfig::writeIni(std::ostream& out) const {
   people.writeIni(out);
   out << "\n";
   scan_matching.writeIni(out);
+  if (poses == PoseSource::Slam) {
+    out << "\n";
+    slam.writeIni(out);
+  }
 }
 
 std::vector<OptionDoc> MapConfig::describe() {

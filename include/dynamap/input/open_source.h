@@ -21,7 +21,8 @@ struct InputOptions {
 };
 
 /// Opens `path`, telling its format by content (ROS 1 bag, CARMEN text, simplemap, rawlog).
-/// ScanMatching opens the odometry poses; Fixed opens any format and puts every scan at
+/// ScanMatching and Slam open the odometry poses (Slam: an InputError naming the log when a
+/// rawlog has no odometry); Fixed opens any format and puts every scan at
 /// options.fixed_pose. Throws InputError if the file cannot be read or no scan can have a pose
 /// under the source asked for (a bag in a build without bag support, too).
 std::unique_ptr<ScanSource> openScanSource(const std::string& path, const InputOptions& options);

@@ -18,7 +18,7 @@ namespace dynamap {
 
 /// Where the robot's pose for each scan comes from.
 enum class PoseSource {
-  Auto,         ///< the best one present: simplemap > ground_truth > odometry
+  Auto,         ///< the best one present: simplemap > ground_truth > slam (a log with odometry only)
   Simplemap,    ///< the keyframe poses of a simplemap
   GroundTruth,  ///< CObservationRobotPose in the log, or a companion <log>.gt.txt file
   Odometry,     ///< CObservationOdometry, or integrated CActionRobotMovement2D
@@ -28,9 +28,13 @@ enum class PoseSource {
   /// One pose for every scan (a standing robot): InputOptions::fixed_pose. Every format offers
   /// it; the log's own poses, if any, are ignored.
   Fixed,
+  /// Odometry and scans turned into a trajectory offline (pose graph with loop closure, see
+  /// localization/slam.h), then mapped on it. A source opened with it reads odometry.
+  Slam,
 };
 
-/// "auto", "simplemap", "ground_truth", "odometry", "scan_matching", "fixed"; throws
+/// "auto", "simplemap", "ground_truth", "odometry", "scan_matching", "fixed", "slam";
+/// throws
 /// std::invalid_argument otherwise.
 PoseSource parsePoseSource(const std::string& name);
 std::string toString(PoseSource source);

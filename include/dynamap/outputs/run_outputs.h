@@ -6,6 +6,7 @@
 #include "dynamap/input/scan_source.h"
 #include "dynamap/mapping/plain_grid.h"
 #include "dynamap/pipeline/mapper.h"
+#include "dynamap/pipeline/slam_run.h"
 
 namespace dynamap {
 
@@ -18,6 +19,9 @@ struct OutputInfo {
   /// and drawn as mrpt_plain.png.
   const PlainGrid* baseline = nullptr;
   double baseline_wall_s = 0;  ///< time spent building it
+  /// Pass 1 of pose source slam (nullptr: not used): its counts go to summary.json's "slam"
+  /// block and its pose graph to graph.g2o.
+  const SlamRun* slam = nullptr;
 };
 void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSource& source,
                      const OutputInfo& info);

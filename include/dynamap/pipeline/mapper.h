@@ -12,6 +12,7 @@
 #include "dynamap/base/option_table.h"
 #include "dynamap/input/scan_source.h"
 #include "dynamap/localization/scan_matcher.h"
+#include "dynamap/localization/slam.h"
 #include "dynamap/mapping/dynamic_grid_map.h"
 #include "dynamap/objects/object_tracker.h"
 #include "dynamap/people/person_tracker.h"
@@ -28,12 +29,13 @@ struct MapConfig {
   ObjectOptions objects;
   PeopleOptions people;
   ScanMatchOptions scan_matching;       ///< used when poses is ScanMatching
+  SlamOptions slam;                     ///< used when poses is Slam
   PoseSource poses = PoseSource::Auto;  ///< [input] poses
   mrpt::poses::CPose2D fixed_pose;      ///< [input] fixed_pose: every scan's pose when Fixed
 
   /// Strict: unknown sections or keys, bad values: ConfigError naming file, section and key.
   static MapConfig load(const IniFile& ini);
-  /// The effective configuration as a reloadable .ini.
+  /// The effective configuration as a reloadable .ini ([slam] only when poses is Slam).
   void writeIni(std::ostream& out) const;
   /// Every key of every section with its default, unit, range and meaning (for docs and tests).
   static std::vector<OptionDoc> describe();

@@ -1,0 +1,145 @@
+#pragma once
+// Pose estimation from odometry and scans alone (section [slam]): a front end that matches each
+// scan against a submap of the scans before it, and a pose graph whose loop closures, found by
+// matching scans against older submaps, are optimised as the run goes (PoseGraph).
+//
+// Front end: the odometry increment since the last scan, applied to the last front-end pose,
+// is the guess; ScanMatcher (grid search plus ICP, keeping odometry along directions the walls
+// do not pin down) aligns the scan to the static map S of the oldest active submap. Two
+// submaps are active at once, each started when the other is half built, as in Cartographer:
+// the one matched against always holds at least half a submap of scans.
+// Back end: a node per scan; an odometry edge between consecutive nodes, a scan-match edge from
+// the submap's anchor to each scan matched, and loop-closure edges from older submaps' anchors.
+// A loop closure is searched for every loop_every_m of path, against finished submaps at least
+// loop_min_path_m of path back, within a window that grows with the path since the last loop
+// closure (the pose's uncertainty), by branch and bound. It is proposed when the best pose
+// scores loop_min_score and no pose far from it scores nearly as well (loop_ambiguity_ratio: a
+// symmetric corridor is no evidence); the optimiser's gate rejects what is still inconsistent.
+//
+// Cost: one small search per scan, a field rebuilt every refresh_scans scans, a branch and bound
+// per loop attempt, and an optimisation per optimise_every_nodes nodes with a new loop closure.
+// Deterministic: single-threaded, the same scans and odometry give the same poses bit for bit.
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <cstddef>
+#include <deque>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dynamap/localization/pose_graph.h"
+#include "dynamap/localization/scan_matcher.h"
+#include "dynamap/localization/submap.h"
+
+namespace dynamap {
+
+class IniFile;
+
+struct SlamOptions {
+  static constexpr const char* kSection = "slam";
+
+  // Submaps and the front end.
+  double submap_length_m = 3.0;     ///< path a submap covers (0.1, 100]
+  int submap_max_scans = 200;       ///< ... or at most this many scans [2, 100000]
+  double occupied_threshold = 0.65; ///< submap cells above this P(occ) are walls (0.5, 1)
+  double field_sigma_m = 0.05;      ///< width of the likelihood field (0, 1]
+  int point_stride = 2;             ///< every n-th beam is matched [1, 100]
+  double angle_step_deg = 0.5;      ///< heading step of every search (0, 10]
+  // Edges (standard deviations).
+  double odometry_sigma_per_m = 0.05;    ///< odometry: translation sd per metre (0, 10]
+  double odometry_sigma_per_rad = 0.05;  ///< odometry: heading sd per radian turned (0, 10]
+  double match_sigma_m = 0.02;           ///< scan-match edges: translation sd (0, 10]
+  double match_sigma_deg = 0.5;          ///< ... heading sd (0, 90]
+  double loop_sigma_m = 0.05;            ///< loop closures: translation sd (0, 10]
+  double loop_sigma_deg = 1.0;           ///< ... heading sd (0, 90]
+  // Loop closure.
+  double loop_every_m = 1.0;            ///< path between loop closure attempts (0, 1000]
+  double loop_min_path_m = 10.0;        ///< submaps at least this far back along the path [0, 1e6]
+  double loop_max_distance_m = 6.0;     ///< ... whose anchor is this close (estimate) (0, 1000]
+  int loop_max_candidates = 3;          ///< the nearest this many submaps per attempt [1, 100]
+  double loop_window_m = 0.3;           ///< search window right after a loop closure [0, 20]
+  double loop_window_per_m = 0.02;      ///< ... growing by this per metre of path since [0, 1]
+  double loop_max_window_m = 2.0;       ///< ... up to this [0, 20]
+  double loop_window_deg = 3.0;         ///< heading window right after a loop closure [0, 180]
+  double loop_window_deg_per_m = 0.1;   ///< ... growing by this per metre of path [0, 10]
+  double loop_max_window_deg = 10.0;    ///< ... up to this [0, 180]
+  double loop_min_score = 0.55;         ///< a loop closure's points' mean field value [0, 1]
+  double loop_ambiguity_ratio = 0.9;    ///< runner-up / best above this: ambiguous [0, 1]
+  double loop_ambiguity_m = 0.4;        ///< runner-ups this far from the best count (0, 20]
+  // Optimisation.
+  int optimise_every_nodes = 100;  ///< nodes between optimisations with new loops [1, 1e6]
+  int max_iterations = 100;        ///< Levenberg-Marquardt iterations per run [1, 10000]
+  double loop_gate = 16.0;         ///< chi^2 above which a loop closure is rejected (0, 1e9]
+  int max_rounds = 3;              ///< optimise / reject rounds per optimisation [1, 100]
+
+  /// Strict load: unknown keys, malformed numbers and out-of-range values throw ConfigError.
+  void load(const IniFile& ini);
+  /// Throws ConfigError ("<source>: [slam] key: why") for the first rule broken.
+  void validate(const std::string& source) const;
+  /// Writes the section, one key per line with its meaning (reloadable).
+  void writeIni(std::ostream& out) const;
+};
+
+/// Counts of a run, for summary.json.
+struct SlamStats {
+  std::size_t scans = 0, matched = 0, fallbacks = 0, submaps = 0;
+  std::size_t loop_attempts = 0;      ///< (node, submap) pairs searched
+  std::size_t loops_proposed = 0;     ///< searches that found a pose scoring loop_min_score
+  std::size_t loops_ambiguous = 0;    ///< ... dropped as ambiguous
+  std::size_t loops_accepted = 0;     ///< loop edges in the final graph
+  std::size_t loops_rejected = 0;     ///< proposed but ambiguous or rejected by the gate
+  std::size_t optimisations = 0, iterations = 0;
+  double final_error = 0;     ///< chi^2 of the graph after the last optimisation
+  bool converged = true;      ///< false: the last optimisation failed, front-end poses are kept
+};
+
+class Slam {
+ public:
+  /// The submaps are DynamicGridMaps of `map` and `insertion` (the run's own options), the front
+  /// end a ScanMatcher of `matching`.
+  Slam(const SlamOptions& options, const ScanMatchOptions& matching, const DynamicMapOptions& map,
+       const InsertionOptions& insertion);
+  ~Slam();
+
+  /// The next scan, taken at odometry pose `odometry`.
+  void add(const mrpt::poses::CPose2D& odometry, const mrpt::obs::CObservation2DRangeScan& scan);
+  /// The last optimisation. Poses are final afterwards.
+  void finish();
+
+  /// One pose per scan added, in order: optimised, or the front end's when the last
+  /// optimisation did not converge.
+  std::vector<mrpt::poses::CPose2D> poses() const;
+  const PoseGraph& graph() const { return graph_; }
+  const SlamStats& stats() const;
+
+ private:
+  mrpt::poses::CPose2D frontEnd(const mrpt::poses::CPose2D& guess,
+                                const mrpt::obs::CObservation2DRangeScan& scan);
+  void updateSubmaps(const mrpt::obs::CObservation2DRangeScan& scan);
+  void searchLoops(const std::vector<mrpt::math::TPoint2D>& pts);
+  bool tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts, double uncertain_m);
+  void optimise();
+
+  SlamOptions o_;
+  ScanMatcher matcher_;
+  DynamicMapOptions map_options_;
+  InsertionOptions insertion_;
+  double max_range_;
+  PoseGraph graph_;
+  std::vector<mrpt::poses::CPose2D> front_;  // front-end poses
+  std::vector<double> path_;                 // path length at each node
+  mrpt::poses::CPose2D last_odometry_;
+  std::deque<std::unique_ptr<Submap>> active_;
+  std::vector<std::unique_ptr<Submap>> finished_;
+  std::deque<double> active_start_;  // path length at each active submap's anchor
+  double last_attempt_path_ = 0, last_closure_path_ = 0;
+  std::size_t nodes_at_last_optimise_ = 0;
+  bool pending_loops_ = false;
+  bool last_match_ok_ = false;
+  mutable SlamStats stats_;
+};
+
+}  // namespace dynamap

@@ -1,0 +1,52 @@
+#pragma once
+// Pose source slam: pass 1 reads the whole log once and estimates its trajectory offline
+// (Slam: submaps, a pose graph, loop closures); pass 2 maps the log again on those poses through
+// OptimisedPoseSource, so S, D, the object table and every output use them.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dynamap/input/scan_source.h"
+#include "dynamap/localization/slam.h"
+#include "dynamap/pipeline/mapper.h"
+
+namespace dynamap {
+
+/// What pass 1 produced.
+struct SlamRun {
+  std::unique_ptr<Slam> slam;              ///< the graph and the counts
+  std::vector<mrpt::poses::CPose2D> poses;  ///< one per scan the source returned, in order
+  InputOutcome outcome;                     ///< a fault ends pass 1 (and pass 2) at that scan
+  double wall_s = 0;                        ///< time of pass 1
+};
+
+/// True when a run asked for `requested` maps with slam on `source` (opened with it): asked
+/// for, or auto on a log whose best poses are its odometry.
+bool usesSlam(PoseSource requested, const ScanSource& source);
+
+/// Pass 1: every scan of `source` (opened with odometry poses) through Slam, then the last
+/// optimisation, with `config`'s [slam], [scan_matching] (the front end), [dynamic_map] and
+/// [insertion] (the submaps). `on_scan(done)` is called after each scan (progress).
+SlamRun estimateTrajectory(ScanSource& source, const MapConfig& config,
+                           const std::function<void(std::size_t)>& on_scan = {});
+
+/// Pass 2's source: `inner` (the same log, opened again the same way) with each scan's pose
+/// replaced by pass 1's, in order. Ends where pass 1 ended.
+class OptimisedPoseSource : public ScanSource {
+ public:
+  OptimisedPoseSource(std::unique_ptr<ScanSource> inner, std::vector<mrpt::poses::CPose2D> poses);
+  bool next(ScanRecord& out) override;
+  PoseSource poseSource() const override { return PoseSource::Slam; }
+  const SourceStats& stats() const override { return inner_->stats(); }
+  const std::string& path() const override { return inner_->path(); }
+  double fractionRead() const override { return inner_->fractionRead(); }
+
+ private:
+  std::unique_ptr<ScanSource> inner_;
+  std::vector<mrpt::poses::CPose2D> poses_;
+  std::size_t next_ = 0;
+};
+
+}  // namespace dynamap

@@ -1,0 +1,222 @@
+#include "dynamap/localization/field_matcher.h"
+
+#include <mrpt/math/wrap2pi.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+namespace dynamap {
+namespace {
+
+/// The points' cells seen from `pose`.
+void pointCells(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
+                const mrpt::poses::CPose2D& pose, std::vector<int>& cx, std::vector<int>& cy) {
+  cx.resize(pts.size());
+  cy.resize(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const mrpt::math::TPoint2D g = pose + pts[i];
+    cx[i] = field.cellX(g.x);
+    cy[i] = field.cellY(g.y);
+  }
+}
+
+double sumAt(const LikelihoodField& field, const std::vector<int>& cx, const std::vector<int>& cy,
+             int dx, int dy) {
+  double s = 0;
+  for (std::size_t i = 0; i < cx.size(); ++i) s += field.cell(cx[i] + dx, cy[i] + dy);
+  return s;
+}
+
+double coarseSumAt(const LikelihoodField& field, const std::vector<int>& cx,
+                   const std::vector<int>& cy, int dx, int dy) {
+  double s = 0;
+  for (std::size_t i = 0; i < cx.size(); ++i) s += field.coarse(cx[i] + dx, cy[i] + dy);
+  return s;
+}
+
+/// Cost and gradient terms of the points at `pose`: sum (1 - f)^2, J^T r and J^T J.
+double pointTerms(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
+                  const mrpt::poses::CPose2D& pose, Eigen::Vector3d& g, Eigen::Matrix3d& h) {
+  g.setZero();
+  h.setZero();
+  const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
+  double cost = 0;
+  for (const auto& p : pts) {
+    const double rx = c * p.x - s * p.y, ry = s * p.x + c * p.y;  // the point, rotated
+    double fx, fy;
+    const double f = field.interpolate(pose.x() + rx, pose.y() + ry, fx, fy);
+    const double r = 1.0 - f;
+    const Eigen::Vector3d j(-fx, -fy, -(fx * -ry + fy * rx));
+    cost += r * r;
+    g += j * r;
+    h += j * j.transpose();
+  }
+  return cost;
+}
+
+}  // namespace
+
+std::vector<mrpt::math::TPoint2D> knownPoints(const LikelihoodField& field,
+                                              const std::vector<mrpt::math::TPoint2D>& pts,
+                                              const mrpt::poses::CPose2D& pose, int margin) {
+  std::vector<mrpt::math::TPoint2D> out;
+  for (const auto& p : pts) {
+    const mrpt::math::TPoint2D g = pose + p;
+    const int cx = field.cellX(g.x), cy = field.cellY(g.y);
+    if (field.known(cx, cy) && field.known(cx - margin, cy) && field.known(cx + margin, cy) &&
+        field.known(cx, cy - margin) && field.known(cx, cy + margin)) {
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+double fieldScore(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
+                  const mrpt::poses::CPose2D& pose) {
+  if (pts.empty()) return 0;
+  std::vector<int> cx, cy;
+  pointCells(field, pts, pose, cx, cy);
+  return sumAt(field, cx, cy, 0, 0) / static_cast<double>(pts.size());
+}
+
+FieldMatch searchLocal(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
+                       const mrpt::poses::CPose2D& guess, double window_m, double window_rad,
+                       double step_rad, double offset_cost, double turn_cost) {
+  FieldMatch best;
+  best.pose = guess;
+  if (pts.empty() || field.empty()) return best;
+  const double res = field.resolution();
+  const int shift = static_cast<int>(std::floor(window_m / res + 1e-9));
+  const int turns = step_rad > 0 ? static_cast<int>(std::floor(window_rad / step_rad + 1e-9)) : 0;
+  const double n = static_cast<double>(pts.size());
+  double best_value = -1e300;
+  std::vector<int> cx, cy;
+  for (int t = -turns; t <= turns; ++t) {
+    const double dphi = t * step_rad;
+    pointCells(field, pts, {guess.x(), guess.y(), guess.phi() + dphi}, cx, cy);
+    for (int dy = -shift; dy <= shift; ++dy) {
+      for (int dx = -shift; dx <= shift; ++dx) {
+        const double score = sumAt(field, cx, cy, dx, dy) / n;
+        const double value = score - offset_cost * (dx * dx + dy * dy) * res * res -
+                             turn_cost * dphi * dphi;
+        if (value <= best_value) continue;
+        best_value = value;
+        best.score = score;
+        best.pose = {guess.x() + dx * res, guess.y() + dy * res, guess.phi() + dphi};
+      }
+    }
+  }
+  return best;
+}
+
+FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
+                      const mrpt::poses::CPose2D& guess, double window_m, double window_rad,
+                      double step_rad, double separation_m, double ambiguity_ratio) {
+  FieldMatch best;
+  best.pose = guess;
+  if (pts.empty() || field.empty()) return best;
+  constexpr int K = LikelihoodField::kCoarse;
+  const double res = field.resolution();
+  const int shift = static_cast<int>(std::floor(window_m / res + 1e-9));
+  const int turns = step_rad > 0 ? static_cast<int>(std::floor(window_rad / step_rad + 1e-9)) : 0;
+  // Level 1: every block of K x K offsets at every angle, scored by its upper bound.
+  std::vector<std::tuple<double, int, int, int>> blocks;  // (-bound, turn, dx, dy)
+  std::vector<std::vector<int>> cxs(2 * turns + 1), cys(2 * turns + 1);
+  for (int t = -turns; t <= turns; ++t) {
+    auto& cx = cxs[t + turns];
+    auto& cy = cys[t + turns];
+    pointCells(field, pts, {guess.x(), guess.y(), guess.phi() + t * step_rad}, cx, cy);
+    for (int dy = -shift; dy <= shift; dy += K) {
+      for (int dx = -shift; dx <= shift; dx += K) {
+        blocks.emplace_back(-coarseSumAt(field, cx, cy, dx, dy), t, dx, dy);
+      }
+    }
+  }
+  std::sort(blocks.begin(), blocks.end());
+  // Level 2: the blocks in order of their bound, until no block can beat the best (or come
+  // near it: the runner-up must be found too).
+  std::vector<std::tuple<double, int, int, int>> good;  // (score, turn, dx, dy)
+  double top = 0;
+  for (const auto& [neg_bound, t, bx, by] : blocks) {
+    if (-neg_bound <= ambiguity_ratio * top) break;
+    const auto& cx = cxs[t + turns];
+    const auto& cy = cys[t + turns];
+    for (int dy = by; dy < by + K && dy <= shift; ++dy) {
+      for (int dx = bx; dx < bx + K && dx <= shift; ++dx) {
+        const double s = sumAt(field, cx, cy, dx, dy);
+        if (s < ambiguity_ratio * top) continue;
+        good.emplace_back(s, t, dx, dy);
+        top = std::max(top, s);
+      }
+    }
+  }
+  const double n = static_cast<double>(pts.size());
+  int bt = 0, bx = 0, by = 0;
+  double bs = -1;
+  for (const auto& [s, t, dx, dy] : good) {
+    if (s > bs) bs = s, bt = t, bx = dx, by = dy;
+  }
+  if (bs < 0) return best;
+  best.score = bs / n;
+  best.pose = {guess.x() + bx * res, guess.y() + by * res, guess.phi() + bt * step_rad};
+  const double sep_cells = separation_m / res, sep_turns = (5.0 * M_PI / 180.0) / step_rad;
+  for (const auto& [s, t, dx, dy] : good) {
+    const bool far = std::hypot(dx - bx, dy - by) > sep_cells || std::abs(t - bt) > sep_turns;
+    if (far) best.runner_up = std::max(best.runner_up, s / n);
+  }
+  return best;
+}
+
+FieldMatch refine(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
+                  const mrpt::poses::CPose2D& start, const mrpt::poses::CPose2D& prior,
+                  double translation_weight, double rotation_weight, int max_iterations) {
+  auto total = [&](const mrpt::poses::CPose2D& p, Eigen::Vector3d& g, Eigen::Matrix3d& h) {
+    double cost = pointTerms(field, pts, p, g, h);
+    const double wt = translation_weight * translation_weight, wr = rotation_weight * rotation_weight;
+    const Eigen::Vector3d d(p.x() - prior.x(), p.y() - prior.y(),
+                            mrpt::math::wrapToPi(p.phi() - prior.phi()));
+    const Eigen::Vector3d w(wt, wt, wr);
+    cost += d.dot(w.cwiseProduct(d));
+    g += w.cwiseProduct(d);
+    h.diagonal() += w;
+    return cost;
+  };
+  FieldMatch m;
+  m.pose = start;
+  if (pts.empty() || field.empty()) return m;
+  Eigen::Vector3d g;
+  Eigen::Matrix3d h;
+  double cost = total(m.pose, g, h), lambda = 1e-3;
+  for (int it = 0; it < max_iterations; ++it) {
+    Eigen::Matrix3d a = h;
+    a.diagonal() *= 1.0 + lambda;
+    const Eigen::Vector3d step = a.ldlt().solve(-g);
+    if (!step.allFinite()) break;
+    const mrpt::poses::CPose2D next(m.pose.x() + step.x(), m.pose.y() + step.y(),
+                                    mrpt::math::wrapToPi(m.pose.phi() + step.z()));
+    Eigen::Vector3d g2;
+    Eigen::Matrix3d h2;
+    const double c2 = total(next, g2, h2);
+    if (c2 < cost) {
+      m.pose = next, cost = c2, g = g2, h = h2, lambda *= 0.1;
+      if (step.head<2>().norm() < 1e-5 && std::abs(step.z()) < 1e-6) break;
+    } else {
+      lambda *= 10;
+      if (lambda > 1e6) break;
+    }
+  }
+  Eigen::Vector3d gp;
+  pointTerms(field, pts, m.pose, gp, m.information);
+  double gx, gy, sum = 0;
+  const double c = std::cos(m.pose.phi()), s = std::sin(m.pose.phi());
+  for (const auto& p : pts) {
+    sum += field.interpolate(m.pose.x() + c * p.x - s * p.y, m.pose.y() + s * p.x + c * p.y, gx, gy);
+  }
+  m.score = sum / static_cast<double>(pts.size());
+  return m;
+}
+
+}  // namespace dynamap

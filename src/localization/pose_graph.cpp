@@ -1,0 +1,120 @@
+#include "dynamap/localization/pose_graph.h"
+
+#include <mrpt/graphs/CNetworkOfPoses.h>
+#include <mrpt/graphslam/levmarq.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace dynamap {
+namespace {
+
+using Graph = mrpt::graphs::CNetworkOfPoses2DInf;
+
+Graph toMrpt(const std::vector<mrpt::poses::CPose2D>& poses, const std::vector<PoseEdge>& edges) {
+  Graph g;
+  g.root = 0;
+  for (std::size_t i = 0; i < poses.size(); ++i) g.nodes[i] = poses[i];
+  for (const PoseEdge& e : edges) {
+    if (!e.active) continue;
+    mrpt::poses::CPosePDFGaussianInf z;
+    z.mean = e.z;
+    z.cov_inv = mrpt::math::CMatrixDouble33(e.information);
+    g.insertEdge(e.from, e.to, z);
+  }
+  return g;
+}
+
+bool finite(const mrpt::poses::CPose2D& p) {
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi());
+}
+
+}  // namespace
+
+std::size_t PoseGraph::addNode(const mrpt::poses::CPose2D& estimate) {
+  poses_.push_back(estimate);
+  return poses_.size() - 1;
+}
+
+void PoseGraph::addEdge(const PoseEdge& edge) {
+  if (edge.from >= poses_.size() || edge.to >= poses_.size() || edge.from == edge.to) {
+    throw std::out_of_range("pose graph edge between unknown nodes");
+  }
+  edges_.push_back(edge);
+}
+
+double PoseGraph::edgeError(const PoseEdge& e) const {
+  const mrpt::poses::CPose2D predicted = poses_[e.to] - poses_[e.from];
+  const mrpt::poses::CPose2D d = predicted - e.z;  // e.z^-1 (+) predicted
+  const Eigen::Vector3d r(d.x(), d.y(), mrpt::math::wrapToPi(d.phi()));
+  return r.dot(e.information * r);
+}
+
+bool PoseGraph::solve(int max_iterations, OptimiseReport& report) {
+  Graph g = toMrpt(poses_, edges_);
+  mrpt::graphslam::TResultInfoSpaLevMarq info{};
+  mrpt::containers::yaml params = mrpt::containers::yaml::Map();
+  params["max_iterations"] = static_cast<uint64_t>(max_iterations);
+  params["verbose"] = false;
+  try {
+    mrpt::graphslam::optimize_graph_spa_levmarq(g, info, nullptr, params);
+  } catch (const std::exception&) {
+    return false;
+  }
+  report.iterations += info.num_iters;
+  std::vector<mrpt::poses::CPose2D> next(poses_.size());
+  for (std::size_t i = 0; i < poses_.size(); ++i) {
+    next[i] = g.nodes.at(i);
+    if (!finite(next[i])) return false;
+  }
+  if (!std::isfinite(info.final_total_sq_error) ||
+      info.num_iters >= static_cast<std::size_t>(max_iterations)) {
+    return false;
+  }
+  poses_ = std::move(next);
+  return true;
+}
+
+OptimiseReport PoseGraph::optimise(int max_iterations, double loop_gate, int max_rounds) {
+  OptimiseReport report;
+  for (const PoseEdge& e : edges_) {
+    if (e.active) report.initial_error += edgeError(e);
+  }
+  if (poses_.size() < 2) {
+    report.converged = true;
+    return report;
+  }
+  const std::vector<mrpt::poses::CPose2D> before = poses_;
+  for (int round = 0;; ++round) {
+    if (!solve(max_iterations, report)) {
+      poses_ = before;
+      report.converged = false;
+      return report;
+    }
+    report.converged = true;
+    if (round + 1 >= max_rounds) break;  // the last round's result stands
+    std::size_t rejected = 0;
+    for (PoseEdge& e : edges_) {
+      if (e.active && e.kind == EdgeKind::LoopClosure && edgeError(e) > loop_gate) {
+        e.active = false;
+        ++rejected;
+      }
+    }
+    report.rejected += rejected;
+    if (rejected == 0) break;
+    poses_ = before;  // again from where the rejected edges had not yet pulled the poses
+  }
+  report.final_error = 0;
+  for (const PoseEdge& e : edges_) {
+    if (e.active) report.final_error += edgeError(e);
+  }
+  return report;
+}
+
+void PoseGraph::saveG2o(const std::string& path) const {
+  const Graph g = toMrpt(poses_, edges_);
+  g.saveToTextFile(path);
+}
+
+}  // namespace dynamap
