@@ -714,13 +714,26 @@ int runEval(const Args& args) {
       throw UsageError("--trajectory takes --truth only");
     }
     const std::string file = vm["trajectory"].as<std::string>();
-    const std::string truth = truthPrefix(vm["truth"].as<std::string>()) + ".gt.txt";
-    const TrajectoryError e = trajectoryError(readPoses(file), readPoses(truth));
+    // A pose file itself (dynamap perturb's gt.txt), or the simulator's prefix.
+    const std::string given = vm["truth"].as<std::string>();
+    const std::string truth = std::filesystem::is_regular_file(given) && given.size() > 4 &&
+                                      given.compare(given.size() - 4, 4, ".txt") == 0
+                                  ? given
+                                  : truthPrefix(given) + ".gt.txt";
+    const std::vector<TimedPose> estimate = readPoses(file), reference = readPoses(truth);
+    const TrajectoryError e = trajectoryError(estimate, reference);
     std::cout << "dynamap eval: " << file << " against " << truth << ": " << e.matched
               << " poses scored, " << e.unmatched << " without truth; ATE RMSE position "
               << num(e.rmse_xy_m, 4, "n/a") << " m, heading "
               << num(e.rmse_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg, max position error "
               << num(e.max_xy_m, 3, "n/a") << " m\n";
+    const AlignedTrajectoryError a = alignedTrajectoryError(estimate, reference);
+    std::cout << "dynamap eval: after the best rigid alignment: position RMSE "
+              << num(a.aligned_rmse_xy_m, 4, "n/a") << " m; relative error over 1 m of path "
+              << num(a.rel_1m_xy_m, 4, "n/a") << " m, "
+              << num(a.rel_1m_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg; over 10 m "
+              << num(a.rel_10m_xy_m, 4, "n/a") << " m, "
+              << num(a.rel_10m_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg\n";
     return kExitOk;
   }
   for (const char* k : {"scenario", "truth", "result"}) {

@@ -28,6 +28,8 @@ const Command kCommands[] = {
      dynamap::app::runEval},
     {"config", "print the built-in configuration (an .ini to start from) or its table of keys",
      dynamap::app::runConfig},
+    {"perturb", "a log with known poses as a rawlog whose odometry drifts, and its truth",
+     dynamap::app::runPerturb},
 };
 
 void printHelp(std::ostream& out) {

@@ -206,6 +206,24 @@ TrajectoryError trajectoryError(const std::vector<TimedPose>& estimate,
                                 const std::vector<TimedPose>& truth,
                                 double time_tolerance_s = 1e-3);
 
+/// Trajectory errors that do not depend on where the estimate starts.
+struct AlignedTrajectoryError {
+  std::size_t matched = 0;     ///< estimated poses with a truth pose at their timestamp
+  double aligned_rmse_xy_m = 0;  ///< position RMSE after the best rigid SE(2) alignment (Horn)
+  /// Mean relative error over pose pairs `delta` metres of the truth's path apart (Kümmerle et
+  /// al. 2009): |(est_i^-1 est_j) - (gt_i^-1 gt_j)| in translation [m] and heading [rad], for
+  /// delta = 1 m and 10 m; NaN when the path is shorter.
+  double rel_1m_xy_m = 0, rel_1m_phi_rad = 0;
+  double rel_10m_xy_m = 0, rel_10m_phi_rad = 0;
+};
+
+/// Pairs poses by timestamp like trajectoryError(), then scores them as above. The alignment is
+/// the closed-form least-squares rotation and translation of the estimate's positions onto the
+/// truth's (Umeyama / Horn, without scale).
+AlignedTrajectoryError alignedTrajectoryError(const std::vector<TimedPose>& estimate,
+                                              const std::vector<TimedPose>& truth,
+                                              double time_tolerance_s = 1e-3);
+
 /// √(a·b) and 2ab/(a+b); NaN when either is NaN, 0 when both are 0.
 double geometricMean(double a, double b);
 double harmonicMean(double a, double b);

@@ -56,7 +56,7 @@ struct SlamOptions {
   double loop_sigma_m = 0.05;            ///< loop closures: translation sd (0, 10]
   double loop_sigma_deg = 1.0;           ///< ... heading sd (0, 90]
   // Loop closure.
-  double loop_every_m = 1.0;            ///< path between loop closure attempts (0, 1000]
+  double loop_every_m = 2.0;            ///< path between loop closure attempts (0, 1000]
   double loop_min_path_m = 10.0;        ///< submaps at least this far back along the path [0, 1e6]
   double loop_max_distance_m = 6.0;     ///< ... whose anchor is this close (estimate) (0, 1000]
   int loop_max_candidates = 3;          ///< the nearest this many submaps per attempt [1, 100]
@@ -70,7 +70,7 @@ struct SlamOptions {
   double loop_ambiguity_ratio = 0.9;    ///< runner-up / best above this: ambiguous [0, 1]
   double loop_ambiguity_m = 0.4;        ///< runner-ups this far from the best count (0, 20]
   // Optimisation.
-  int optimise_every_nodes = 100;  ///< nodes between optimisations with new loops [1, 1e6]
+  int optimise_every_nodes = 1000; ///< nodes between optimisations with new loops [1, 1e6]
   int max_iterations = 100;        ///< Levenberg-Marquardt iterations per run [1, 10000]
   double loop_gate = 16.0;         ///< chi^2 above which a loop closure is rejected (0, 1e9]
   int max_rounds = 3;              ///< optimise / reject rounds per optimisation [1, 100]

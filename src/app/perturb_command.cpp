@@ -1,0 +1,112 @@
+// dynamap perturb: a log with known poses turned into one whose odometry drifts like a wheel
+// odometry's, with the known poses beside it as the truth: real scans to test pose estimation
+// on (--poses slam) against the poses they were corrected to.
+
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "cli.h"
+#include "commands.h"
+#include "dynamap/input/open_source.h"
+#include "dynamap/outputs/map_outputs.h"
+#include "dynamap/sim/random.h"
+
+namespace dynamap::app {
+namespace {
+
+const char* const kUsage =
+    "usage: dynamap perturb --input LOG --out DIR [--seed N] [--trans-noise F] [--rot-noise F]\n"
+    "                       [--rot-per-m F] [--heading-bias F]\n\n"
+    "Reads a log with known poses (ground truth or a simplemap; a CARMEN corrected log's poses)\n"
+    "and writes DIR/odometry.rawlog (gz): each scan with a CObservationOdometry whose increments\n"
+    "are the true ones with noise (translation sd trans-noise x distance, heading sd rot-noise x\n"
+    "turn + rot-per-m x distance, plus heading-bias x distance), and DIR/gt.txt: the true pose of\n"
+    "each scan (timestamp x y phi). The same input and seed give the same bytes.";
+
+struct Noise {
+  double trans = 0.03, rot = 0.03, rot_per_m = 0.005, heading_bias = 0.002;
+};
+
+/// The true increment `u` with odometry's error.
+mrpt::poses::CPose2D noisyIncrement(const mrpt::poses::CPose2D& u, const Noise& n, sim::Rng& rng) {
+  const double d = std::hypot(u.x(), u.y());
+  const double x = u.x() + rng.gaussian(n.trans * d), y = u.y() + rng.gaussian(n.trans * d);
+  const double phi = u.phi() + rng.gaussian(n.rot * std::abs(u.phi()) + n.rot_per_m * d) +
+                     n.heading_bias * d;
+  return {x, y, phi};
+}
+
+double nonNegative(const po::variables_map& vm, const char* key, double fallback) {
+  if (!vm.count(key)) return fallback;
+  const double v = vm[key].as<double>();
+  if (!(v >= 0 && v <= 1)) throw UsageError(std::string("--") + key + ": must be in [0, 1]");
+  return v;
+}
+
+}  // namespace
+
+int runPerturb(const Args& args) {
+  po::options_description opts("options");
+  opts.add_options()("help,h", "explain the options")(
+      "input,i", po::value<std::string>()->required(), "a log with known poses")(
+      "out,o", po::value<std::string>()->required(), "output directory (created)")(
+      "seed", po::value<unsigned long>()->default_value(1), "seed of the noise")(
+      "trans-noise", po::value<double>(), "translation sd per metre (0.03)")(
+      "rot-noise", po::value<double>(), "heading sd per radian turned (0.03)")(
+      "rot-per-m", po::value<double>(), "heading sd per metre (0.005)")(
+      "heading-bias", po::value<double>(), "heading bias per metre, radians (0.002)");
+  po::positional_options_description positional;
+  po::variables_map vm;
+  if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
+  Noise noise;
+  noise.trans = nonNegative(vm, "trans-noise", noise.trans);
+  noise.rot = nonNegative(vm, "rot-noise", noise.rot);
+  noise.rot_per_m = nonNegative(vm, "rot-per-m", noise.rot_per_m);
+  noise.heading_bias = nonNegative(vm, "heading-bias", noise.heading_bias);
+  const std::string input = vm["input"].as<std::string>(), dir = vm["out"].as<std::string>();
+
+  auto source = openScanSource(input, PoseSource::Auto);
+  if (source->poseSource() == PoseSource::Odometry) {
+    throw InputError(input + ": no known poses (ground truth or simplemap) to perturb");
+  }
+  prepareOutputDir(dir);
+  const std::string rawlog_tmp = tempName(dir, "odometry.rawlog"), gt_tmp = tempName(dir, "gt.txt");
+  mrpt::io::CFileGZOutputStream rawlog;
+  if (!rawlog.open(rawlog_tmp)) throw InputError(rawlog_tmp + ": cannot write");
+  std::FILE* gt = std::fopen(gt_tmp.c_str(), "w");
+  if (!gt) throw InputError(gt_tmp + ": cannot write");
+  sim::Rng rng(vm["seed"].as<unsigned long>());
+  ScanRecord rec;
+  mrpt::poses::CPose2D last_true, odometry;
+  std::size_t n = 0;
+  auto arch = mrpt::serialization::archiveFrom(rawlog);
+  while (source->next(rec)) {  // a fault in the input is an error: no partial output
+    // Both start at the first true pose.
+    odometry = n > 0 ? odometry + noisyIncrement(rec.pose - last_true, noise, rng) : rec.pose;
+    last_true = rec.pose;
+    mrpt::obs::CObservationOdometry odo;
+    odo.sensorLabel = "ODOMETRY";
+    odo.timestamp = mrpt::Clock::fromDouble(rec.t);  // the rawlog reader's time of the scan
+    rec.scan->timestamp = odo.timestamp;
+    odo.odometry = odometry;
+    arch << odo << *rec.scan;
+    std::fprintf(gt, "%.6f %.6f %.6f %.6f\n", rec.t, rec.pose.x(), rec.pose.y(), rec.pose.phi());
+    ++n;
+  }
+  rawlog.close();
+  if (std::fclose(gt) != 0) throw InputError(gt_tmp + ": write error");
+  if (n == 0) throw InputError(input + ": no scans");
+  commit(rawlog_tmp, dir, "odometry.rawlog");
+  commit(gt_tmp, dir, "gt.txt");
+  std::cout << "dynamap perturb: " << n << " scans of " << input << " -> " << dir
+            << "/odometry.rawlog, true poses in " << dir << "/gt.txt\n";
+  return kExitOk;
+}
+
+}  // namespace dynamap::app
