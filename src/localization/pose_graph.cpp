@@ -4,6 +4,7 @@
 #include <mrpt/graphslam/levmarq.h>
 #include <mrpt/math/wrap2pi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -62,14 +63,16 @@ bool PoseGraph::solve(int max_iterations, OptimiseReport& report) {
   } catch (const std::exception&) {
     return false;
   }
-  report.iterations += info.num_iters;
+  // num_iters is the index of the last iteration run: every iteration used = no convergence.
+  const std::size_t used = info.num_iters + 1;
+  report.iterations += used;
   std::vector<mrpt::poses::CPose2D> next(poses_.size());
   for (std::size_t i = 0; i < poses_.size(); ++i) {
     next[i] = g.nodes.at(i);
     if (!finite(next[i])) return false;
   }
   if (!std::isfinite(info.final_total_sq_error) ||
-      info.num_iters >= static_cast<std::size_t>(max_iterations)) {
+      used >= static_cast<std::size_t>(max_iterations)) {
     return false;
   }
   poses_ = std::move(next);
@@ -94,9 +97,16 @@ OptimiseReport PoseGraph::optimise(int max_iterations, double loop_gate, int max
     }
     report.converged = true;
     if (round + 1 >= max_rounds) break;  // the last round's result stands
+    // A false loop closure drags the poses of true ones too: only those of the gate and at
+    // least half the worst residual go in one round.
+    double worst = 0;
+    for (const PoseEdge& e : edges_) {
+      if (e.active && e.kind == EdgeKind::LoopClosure) worst = std::max(worst, edgeError(e));
+    }
+    const double cut = std::max(loop_gate, 0.5 * worst);
     std::size_t rejected = 0;
     for (PoseEdge& e : edges_) {
-      if (e.active && e.kind == EdgeKind::LoopClosure && edgeError(e) > loop_gate) {
+      if (e.active && e.kind == EdgeKind::LoopClosure && worst > loop_gate && edgeError(e) >= cut) {
         e.active = false;
         ++rejected;
       }

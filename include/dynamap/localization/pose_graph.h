@@ -4,9 +4,9 @@
 //
 // Edges are odometry, scan-to-submap matches and loop closures. Loop closures are the only
 // edges that can be wrong (a symmetric corridor matches itself shifted), so after each
-// optimisation every loop closure whose residual exceeds a chi-square gate is switched off and
-// the graph is optimised again from the poses it had before: a truncated (redescending) loss
-// on loop closures only. An optimisation that fails to converge, or gives a pose that is not
+// optimisation the loop closures whose residual exceeds a chi-square gate (and half the worst
+// one's: a false closure drags true ones with it) are switched off and the graph is optimised
+// again from the poses it had before: a truncated (redescending) loss on loop closures only. An optimisation that fails to converge, or gives a pose that is not
 // finite, leaves the poses as they were and says so.
 
 #include <mrpt/poses/CPose2D.h>
@@ -44,8 +44,8 @@ class PoseGraph {
   /// Adds an edge between existing nodes; throws std::out_of_range otherwise.
   void addEdge(const PoseEdge& edge);
 
-  /// Optimises every node but 0, then gates loop closures (residual chi^2 > `loop_gate`) and
-  /// optimises again without them, at most `max_rounds` times.
+  /// Optimises every node but 0, then gates loop closures (residual chi^2 > `loop_gate` and at
+  /// least half the worst one's) and optimises again without them, at most `max_rounds` runs.
   OptimiseReport optimise(int max_iterations, double loop_gate, int max_rounds);
 
   std::size_t size() const { return poses_.size(); }
@@ -55,8 +55,8 @@ class PoseGraph {
   /// chi^2 of one edge at the current poses.
   double edgeError(const PoseEdge& e) const;
 
-  /// Writes the graph (active edges) with MRPT's CNetworkOfPoses2DInf::saveToTextFile: VERTEX2 /
-  /// EDGE2 lines, the format g2o and MRPT's graph tools read. Throws on I/O errors.
+  /// Writes the graph (active edges) with MRPT's CNetworkOfPoses2DInf::saveToTextFile: VERTEX_SE2 /
+  /// EDGE_SE2 lines (g2o's format, read by g2o and MRPT's graph tools). Throws on I/O errors.
   void saveG2o(const std::string& path) const;
 
  private:

@@ -1,0 +1,121 @@
+// The pose graph (MRPT's sparse LM behind PoseGraph), its gate on loop closures, the likelihood
+// field's branch and bound, and Slam on synthetic rooms.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../test_util.h"
+#include "dynamap/base/ini.h"
+#include "dynamap/localization/field_matcher.h"
+#include "dynamap/localization/pose_graph.h"
+#include "dynamap/localization/slam.h"
+
+namespace dynamap {
+namespace {
+
+using mrpt::poses::CPose2D;
+
+Eigen::Matrix3d info(double sigma_xy, double sigma_phi) {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  m(0, 0) = m(1, 1) = 1 / (sigma_xy * sigma_xy);
+  m(2, 2) = 1 / (sigma_phi * sigma_phi);
+  return m;
+}
+
+// A square of side 2 m driven once round: four exact edges, starting estimates off by
+// decimetres. The optimum is the square itself.
+TEST(PoseGraph, ATinyKnownGraphConvergesToItsExactPoses) {
+  PoseGraph g;
+  const CPose2D truth[] = {{0, 0, 0}, {2, 0, M_PI / 2}, {2, 2, M_PI}, {0, 2, -M_PI / 2}};
+  g.addNode(truth[0]);
+  g.addNode({2.3, 0.2, 1.4});
+  g.addNode({2.2, 2.4, 3.0});
+  g.addNode({-0.3, 2.1, -1.4});
+  for (int i = 0; i < 4; ++i) {
+    const int j = (i + 1) % 4;
+    g.addEdge({std::size_t(i), std::size_t(j), truth[j] - truth[i], info(0.05, 0.02),
+               EdgeKind::Odometry});
+  }
+  const OptimiseReport r = g.optimise(100, 16.0, 3);
+  ASSERT_TRUE(r.converged);
+  EXPECT_GT(r.iterations, 0u);
+  EXPECT_GT(r.initial_error, 1.0);
+  EXPECT_LT(r.final_error, 1e-9);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(g.pose(i).x(), truth[i].x(), 1e-5) << i;
+    EXPECT_NEAR(g.pose(i).y(), truth[i].y(), 1e-5) << i;
+    EXPECT_NEAR(std::remainder(g.pose(i).phi() - truth[i].phi(), 2 * M_PI), 0.0, 1e-6) << i;
+  }
+}
+
+// A straight corridor: 21 nodes 1 m apart, chained by scan-match edges. One loop closure
+// that agrees, and one that says node 20 lies 2 m back (a symmetric corridor's look-alike).
+TEST(PoseGraph, AFalseLoopClosureIsRejectedAndDoesNotBendTheChain) {
+  PoseGraph g;
+  for (int i = 0; i <= 20; ++i) g.addNode({double(i), 0, 0});
+  for (std::size_t i = 0; i < 20; ++i) {
+    g.addEdge({i, i + 1, {1, 0, 0}, info(0.02, 0.005), EdgeKind::ScanMatch});
+  }
+  g.addEdge({0, 10, {10, 0, 0}, info(0.05, 0.02), EdgeKind::LoopClosure});
+  g.addEdge({0, 20, {18, 0, 0}, info(0.05, 0.02), EdgeKind::LoopClosure});
+  const OptimiseReport r = g.optimise(100, 16.0, 3);
+  ASSERT_TRUE(r.converged);
+  EXPECT_EQ(r.rejected, 1u);
+  EXPECT_TRUE(g.edges()[20].active);
+  EXPECT_FALSE(g.edges()[21].active);
+  for (int i = 0; i <= 20; ++i) EXPECT_NEAR(g.pose(i).x(), i, 1e-6) << i;
+}
+
+// Too few iterations to converge: the poses stay as they were, and the report says so.
+TEST(PoseGraph, AnOptimisationThatDoesNotConvergeKeepsThePoses) {
+  PoseGraph g;
+  g.addNode({0, 0, 0});
+  g.addNode({5, 3, 1});
+  g.addEdge({0, 1, {1, 0, 0}, info(0.01, 0.01), EdgeKind::Odometry});
+  const OptimiseReport r = g.optimise(1, 16.0, 1);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(g.pose(1).x(), 5.0);
+  EXPECT_EQ(g.pose(1).y(), 3.0);
+}
+
+TEST(PoseGraph, AnEdgeToAnUnknownNodeIsAnError) {
+  PoseGraph g;
+  g.addNode({0, 0, 0});
+  EXPECT_THROW(g.addEdge({0, 1, {1, 0, 0}, info(1, 1), EdgeKind::Odometry}), std::out_of_range);
+}
+
+// A room's likelihood field: the wide search finds a pose 0.6 m and 4 degrees off its guess.
+TEST(FieldMatcher, BranchAndBoundFindsAKnownOffset) {
+  mrpt::maps::COccupancyGridMap2D grid(-6, 6, -6, 6, 0.05f);
+  const CPose2D at(0.5, -0.3, 0.2);
+  const auto scan = test::makeScan(test::roomRanges(-3, 4, -2, 2.5, at, 361, 2 * M_PI * 359 / 360),
+                                   2 * M_PI * 359 / 360);
+  grid.insertObservation(*scan, mrpt::poses::CPose3D(at));
+  const LikelihoodField field = LikelihoodField::fromGrid(grid, 0.65, 0.05);
+  const auto pts = scanEndPoints(*scan, 30, 2);
+  const CPose2D guess(at.x() - 0.6, at.y() + 0.25, at.phi() - 4 * M_PI / 180);
+  const FieldMatch m = searchWide(field, pts, guess, 1.0, 10 * M_PI / 180, 0.5 * M_PI / 180, 0.4, 0.9);
+  EXPECT_GT(m.score, 0.9);
+  EXPECT_NEAR(m.pose.x(), at.x(), 0.03);
+  EXPECT_NEAR(m.pose.y(), at.y(), 0.03);
+  EXPECT_NEAR(m.pose.phi(), at.phi(), 0.5 * M_PI / 180);
+}
+
+TEST(SlamOptions, BadValuesAreErrorsNamingTheKey) {
+  try {
+    SlamOptions o;
+    o.load(IniFile::fromText("[slam]\nloop_min_score = 2\n", "x.ini"));
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("x.ini: [slam] loop_min_score"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(SlamOptions().load(IniFile::fromText("[slam]\nno_such_key = 1\n", "x.ini")),
+               ConfigError);
+  EXPECT_THROW(SlamOptions().load(IniFile::fromText("[slam]\nsubmap_max_scans = 1\n", "x.ini")),
+               ConfigError);
+}
+
+}  // namespace
+}  // namespace dynamap
