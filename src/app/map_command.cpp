@@ -25,7 +25,8 @@ const char* const kUsage =
     "static.png, dynamic.png, overlay.png, static.gridmap.gz and dynamic.gridmap.gz (MRPT),\n"
     "static.pgm + static.yaml (ROS map_server), config.ini (the effective configuration),\n"
     "summary.json, poses.txt (timestamp x y phi: the pose each scan was mapped at), the\n"
-    "object table: objects.csv, events.csv, tracks.csv, and mrpt_plain.png:\n"
+    "object table: objects.csv, events.csv, tracks.csv, graph.g2o (pose source slam: the\n"
+    "optimised pose graph), and mrpt_plain.png:\n"
     "the plain MRPT grid of the same scans, compared with S in summary.json.\n"
     "--frames-every N also writes frames/NNNNNN.png (the overlay after scan N, 2N, ...) and,\n"
     "when ffmpeg is installed, timelapse.mp4.\n"
@@ -96,7 +97,8 @@ bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
       "poses", po::value<std::string>(),
       "pose source: auto | simplemap | ground_truth | odometry | scan_matching "
       "(odometry corrected against the static map) | fixed (one pose for every scan: a "
-      "robot standing still); overrides [input] poses")(
+      "robot standing still) | slam (a pose graph with loop closures estimated in a first "
+      "pass); overrides [input] poses")(
       "fixed-pose", po::value<std::string>(),
       "\"X Y PHI\" [m m rad]: the pose of every scan with --poses fixed (default 0 0 0; "
       "overrides [input] fixed_pose)")(
@@ -155,6 +157,12 @@ void reportRun(const MapJob& job, const MapJobResult& r) {
     std::cerr << "dynamap map: scan matching corrected " << m.matched << " scans; "
               << m.fallbackTotal() << " kept their odometry pose (see summary.json)\n";
   }
+  if (r.slam) {
+    std::cerr << "dynamap map: slam: " << r.slam->loops_accepted << " loop closures accepted of "
+              << r.slam->loops_proposed << " proposed; optimiser "
+              << (r.slam->converged ? "converged" : "did not converge (front-end poses kept)")
+              << "; pass 1 took " << r.slam_wall_s << " s\n";
+  }
   if (r.baseline) {
     std::cerr << "dynamap map: plain MRPT grid of the same scans (" << r.baseline_wall_s
               << " s): " << r.baseline->plain_occupied_static_free
@@ -169,10 +177,17 @@ int runMap(const Args& args) {
   MapJob job;
   bool verbose = false;
   if (!parseMapJob(args, job, verbose)) return kExitOk;
-  Progress progress(verbose || stderrIsTerminal());
-  job.progress = [&](double fraction, std::size_t scans) { progress.update(fraction, scans); };
+  const bool show = verbose || stderrIsTerminal();
+  auto progress = std::make_unique<Progress>(show);
+  job.progress = [&](double fraction, std::size_t scans) { progress->update(fraction, scans); };
+  job.on_pass = [&](int pass) {  // pose source slam: a progress line for each pass
+    progress->finish();
+    progress = std::make_unique<Progress>(show);
+    if (show && pass == 1) std::cerr << "dynamap map: pass 1 of 2: the trajectory (slam)\n";
+    if (show && pass == 2) std::cerr << "dynamap map: pass 2 of 2: mapping on its poses\n";
+  };
   const MapJobResult r = runMapJob(job);
-  progress.finish();
+  progress->finish();
   if (verbose || stderrIsTerminal()) reportRun(job, r);
   warnAboutSkips(r.counts, r.source_stats);
   if (!r.outcome.fault.empty()) {

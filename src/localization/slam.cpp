@@ -4,11 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <ostream>
-#include <sstream>
 
 #include "dynamap/base/ini.h"
+#include "dynamap/base/option_table.h"
 #include "dynamap/localization/field_matcher.h"
 
 namespace dynamap {
@@ -16,51 +15,74 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-/// Every key of [slam], declared once: its member, range and meaning.
-struct SlamKey {
-  const char* name;
-  double SlamOptions::*real;  // one of real / integer is set
-  int SlamOptions::*integer;
-  double lo, hi;
-  bool lo_open;  // (lo, hi] instead of [lo, hi]
-  const char* meaning;
-};
+}  // namespace
 
-#define DYNAMAP_REAL(k, lo, hi, open, what) {#k, &SlamOptions::k, nullptr, lo, hi, open, what}
-#define DYNAMAP_INT(k, lo, hi, what) {#k, nullptr, &SlamOptions::k, lo, hi, false, what}
-const SlamKey kKeys[] = {
-    DYNAMAP_REAL(submap_length_m, 0.1, 100, true, "[m] path a submap covers"),
-    DYNAMAP_INT(submap_max_scans, 2, 100000, "... or at most this many scans"),
-    DYNAMAP_REAL(occupied_threshold, 0.5, 1, true, "submap cells above this P(occ) are walls"),
-    DYNAMAP_REAL(field_sigma_m, 0, 1, true, "[m] width of the likelihood field"),
-    DYNAMAP_INT(point_stride, 1, 100, "every n-th beam is matched"),
-    DYNAMAP_REAL(angle_step_deg, 0, 10, true, "[deg] heading step of every search"),
-    DYNAMAP_REAL(odometry_sigma_per_m, 0, 10, true, "odometry edges: translation sd per metre"),
-    DYNAMAP_REAL(odometry_sigma_per_rad, 0, 10, true, "odometry edges: heading sd per radian"),
-    DYNAMAP_REAL(match_sigma_m, 0, 10, true, "[m] scan-match edges: translation sd"),
-    DYNAMAP_REAL(match_sigma_deg, 0, 90, true, "[deg] scan-match edges: heading sd"),
-    DYNAMAP_REAL(loop_sigma_m, 0, 10, true, "[m] loop-closure edges: translation sd"),
-    DYNAMAP_REAL(loop_sigma_deg, 0, 90, true, "[deg] loop-closure edges: heading sd"),
-    DYNAMAP_REAL(loop_every_m, 0, 1000, true, "[m] path between loop closure attempts"),
-    DYNAMAP_REAL(loop_min_path_m, 0, 1e6, false, "[m] only submaps this far back along the path"),
-    DYNAMAP_REAL(loop_max_distance_m, 0, 1000, true, "[m] ... whose anchor is this close"),
-    DYNAMAP_INT(loop_max_candidates, 1, 100, "the nearest n such submaps are searched"),
-    DYNAMAP_REAL(loop_window_m, 0, 20, false, "[m] loop search window after a loop closure"),
-    DYNAMAP_REAL(loop_window_per_m, 0, 1, false, "... growing by this per metre of path since"),
-    DYNAMAP_REAL(loop_max_window_m, 0, 20, false, "[m] ... up to this"),
-    DYNAMAP_REAL(loop_window_deg, 0, 180, false, "[deg] heading window after a loop closure"),
-    DYNAMAP_REAL(loop_window_deg_per_m, 0, 10, false, "[deg] ... growing by this per metre"),
-    DYNAMAP_REAL(loop_max_window_deg, 0, 180, false, "[deg] ... up to this"),
-    DYNAMAP_REAL(loop_min_score, 0, 1, false, "a loop closure's points' mean field value"),
-    DYNAMAP_REAL(loop_ambiguity_ratio, 0, 1, false, "runner-up / best above this: ambiguous"),
-    DYNAMAP_REAL(loop_ambiguity_m, 0, 20, true, "[m] runner-ups this far from the best count"),
-    DYNAMAP_INT(optimise_every_nodes, 1, 1000000, "nodes between optimisations (new loops)"),
-    DYNAMAP_INT(max_iterations, 1, 10000, "Levenberg-Marquardt iterations per optimisation"),
-    DYNAMAP_REAL(loop_gate, 0, 1e9, true, "chi^2 above which a loop closure is rejected"),
-    DYNAMAP_INT(max_rounds, 1, 100, "optimise-and-reject rounds per optimisation"),
-};
-#undef DYNAMAP_REAL
-#undef DYNAMAP_INT
+const OptionTable<SlamOptions>& SlamOptions::table() {
+  using O = SlamOptions;
+  static const OptionTable<O> t(kSection, {
+          {"submap_length_m", &O::submap_length_m, Range::openClosed(0.1, 100), "m",
+           "path a submap covers"},
+          {"submap_max_scans", &O::submap_max_scans, Range::closed(2, 100000), "",
+           "a submap holds at most this many scans"},
+          {"occupied_threshold", &O::occupied_threshold, Range::open(0.5, 1), "",
+           "S cells of a finished submap above this P(occ) are walls"},
+          {"field_sigma_m", &O::field_sigma_m, Range::openClosed(0, 1), "m",
+           "sd of a finished submap's likelihood field around its walls"},
+          {"point_stride", &O::point_stride, Range::closed(1, 100), "",
+           "every n-th beam is matched in a loop search"},
+          {"angle_step_deg", &O::angle_step_deg, Range::openClosed(0, 10), "deg",
+           "heading step of a loop search"},
+          {"odometry_sigma_per_m", &O::odometry_sigma_per_m, Range::openClosed(0, 10), "",
+           "odometry edges: translation sd per metre"},
+          {"odometry_sigma_per_rad", &O::odometry_sigma_per_rad, Range::openClosed(0, 10), "",
+           "odometry edges: heading sd per radian"},
+          {"match_sigma_m", &O::match_sigma_m, Range::openClosed(0, 10), "m",
+           "scan-match edges: translation sd"},
+          {"match_sigma_deg", &O::match_sigma_deg, Range::openClosed(0, 90), "deg",
+           "scan-match edges: heading sd"},
+          {"loop_sigma_m", &O::loop_sigma_m, Range::openClosed(0, 10), "m",
+           "loop-closure edges: translation sd"},
+          {"loop_sigma_deg", &O::loop_sigma_deg, Range::openClosed(0, 90), "deg",
+           "loop-closure edges: heading sd"},
+          {"loop_every_m", &O::loop_every_m, Range::openClosed(0, 1000), "m",
+           "path between loop closure attempts"},
+          {"loop_min_path_m", &O::loop_min_path_m, Range::closed(0, 1e6), "m",
+           "only submaps this far back along the path"},
+          {"loop_max_distance_m", &O::loop_max_distance_m, Range::openClosed(0, 1000), "m",
+           "only submaps whose anchor lies this close (estimate)"},
+          {"loop_max_candidates", &O::loop_max_candidates, Range::closed(1, 100), "",
+           "the nearest n such submaps are searched per attempt"},
+          {"loop_window_m", &O::loop_window_m, Range::closed(0, 20), "m",
+           "loop search window after a loop closure"},
+          {"loop_window_per_m", &O::loop_window_per_m, Range::closed(0, 1), "",
+           "it grows by this per metre of path since the last one"},
+          {"loop_max_window_m", &O::loop_max_window_m, Range::closed(0, 20), "m",
+           "the loop search window's upper bound"},
+          {"loop_window_deg", &O::loop_window_deg, Range::closed(0, 180), "deg",
+           "heading window after a loop closure"},
+          {"loop_window_deg_per_m", &O::loop_window_deg_per_m, Range::closed(0, 10), "deg",
+           "it grows by this per metre of path"},
+          {"loop_max_window_deg", &O::loop_max_window_deg, Range::closed(0, 180), "deg",
+           "the heading window's upper bound"},
+          {"loop_min_score", &O::loop_min_score, Range::closed(0, 1), "",
+           "a loop closure's points' mean field value"},
+          {"loop_ambiguity_ratio", &O::loop_ambiguity_ratio, Range::closed(0, 1), "",
+           "runner-up / best above this: ambiguous"},
+          {"loop_ambiguity_m", &O::loop_ambiguity_m, Range::openClosed(0, 20), "m",
+           "runner-ups this far from the best count"},
+          {"optimise_every_nodes", &O::optimise_every_nodes, Range::closed(1, 1000000), "",
+           "nodes between optimisations (new loops)"},
+          {"max_iterations", &O::max_iterations, Range::closed(1, 10000), "",
+           "Levenberg-Marquardt iterations per optimisation"},
+          {"loop_gate", &O::loop_gate, Range::openClosed(0, 1e9), "",
+           "chi^2 above which a loop closure is rejected"},
+          {"max_rounds", &O::max_rounds, Range::closed(1, 100), "",
+           "optimise-and-reject rounds per optimisation"},
+  });
+  return t;
+}
+
+namespace {
 
 Eigen::Matrix3d diagonalInformation(double sigma_xy, double sigma_phi) {
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
@@ -72,25 +94,12 @@ Eigen::Matrix3d diagonalInformation(double sigma_xy, double sigma_phi) {
 }  // namespace
 
 void SlamOptions::load(const IniFile& ini) {
-  std::vector<std::string> names;
-  for (const SlamKey& k : kKeys) names.push_back(k.name);
-  ini.requireKnownKeys(kSection, names);
-  for (const SlamKey& k : kKeys) {
-    if (k.real) this->*k.real = ini.getDouble(kSection, k.name, this->*k.real);
-    if (k.integer) this->*k.integer = static_cast<int>(ini.getInt(kSection, k.name, this->*k.integer));
-  }
+  table().load(ini, *this);
   validate(ini.name());
 }
 
 void SlamOptions::validate(const std::string& source) const {
-  for (const SlamKey& k : kKeys) {
-    const double v = k.real ? this->*k.real : this->*k.integer;
-    std::ostringstream range;
-    range << (k.integer ? "an integer in [" : (k.lo_open ? "in (" : "in [")) << k.lo << ", " << k.hi
-          << "]";
-    if (k.lo_open && !(v > k.lo)) rejectValue(source, kSection, k.name, "must be " + range.str());
-    requireInRange(source, kSection, k.name, v, k.lo, k.hi, range.str());
-  }
+  table().checkRanges(*this, source);
   if (loop_max_window_m < loop_window_m) {
     rejectValue(source, kSection, "loop_max_window_m", "must be at least loop_window_m");
   }
@@ -100,12 +109,7 @@ void SlamOptions::validate(const std::string& source) const {
 }
 
 void SlamOptions::writeIni(std::ostream& out) const {
-  out << std::setprecision(10) << "[" << kSection << "]\n";
-  for (const SlamKey& k : kKeys) {
-    out << k.name << " = ";
-    if (k.real) out << this->*k.real; else out << this->*k.integer;
-    out << " ; " << k.meaning << "\n";
-  }
+  table().write(*this, out);
 }
 
 Slam::Slam(const SlamOptions& options, const ScanMatchOptions& matching,

@@ -82,6 +82,25 @@ void afterScan(const MapJob& job, const Mapper& mapper, Writers& w, const ScanRe
   }
 }
 
+/// Pose source slam, pass 1: the whole trajectory, then `source` replaced by pass 2's (the log
+/// opened again, each scan's pose the optimised one) and `config` saying slam.
+std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
+                                  std::unique_ptr<ScanSource>& source) {
+  if (job.on_pass) job.on_pass(1);
+  ScanSource& first = *source;
+  auto run = std::make_unique<SlamRun>(estimateTrajectory(first, config, [&](std::size_t done) {
+    if (job.progress) job.progress(first.fractionRead(), done);
+  }));
+  config.poses = PoseSource::Slam;  // config.ini says what ran
+  InputOptions input;  // the log read again the same way
+  input.poses = PoseSource::Slam;
+  input.carmen = job.carmen;
+  input.bag = job.bag;
+  source = std::make_unique<OptimisedPoseSource>(openScanSource(job.input, input), run->poses);
+  if (job.on_pass) job.on_pass(2);
+  return run;
+}
+
 }  // namespace
 
 MapJobResult runMapJob(const MapJob& job) {
@@ -92,7 +111,10 @@ MapJobResult runMapJob(const MapJob& job) {
   input.carmen = job.carmen;
   input.bag = job.bag;
   auto source = openScanSource(job.input, input);
-  Mapper mapper(job.config);
+  MapConfig config = job.config;
+  std::unique_ptr<SlamRun> slam;
+  if (usesSlam(config.poses, *source)) slam = slamPass(job, config, source);
+  Mapper mapper(config);
   Writers w(job);
   const auto start = Clock::now();
   MapJobResult r;
@@ -103,10 +125,11 @@ MapJobResult runMapJob(const MapJob& job) {
   w.tracks.finish();
   w.people.finish();
   w.poses.finish();
+  if (slam && r.outcome.fault.empty()) r.outcome.fault = slam->outcome.fault;  // pass 1 ended there
   r.baseline_wall_s = std::chrono::duration<double>(w.baseline_time).count();
   r.wall_s = secondsSince(start) - r.baseline_wall_s;
   writeMapOutputs(job.out_dir, mapper, *source,
-                  {job.input, r.wall_s, r.outcome, w.baseline.get(), r.baseline_wall_s});
+                  {job.input, r.wall_s, r.outcome, w.baseline.get(), r.baseline_wall_s, slam.get()});
   if (job.frames_every > 0) writeTimelapse(job.out_dir, w.frames_dir);
   r.pose_source = mapper.poseSourceName(*source);
   r.counts = mapper.counts();
@@ -114,6 +137,11 @@ MapJobResult runMapJob(const MapJob& job) {
   r.scan_matching = mapper.scanMatching();
   r.scan_match_counts = mapper.scanMatchCounts();
   if (w.baseline) r.baseline = comparePlain(mapper.map(), w.baseline->grid());
+  if (slam) {
+    r.slam = slam->slam->stats();
+    r.slam_wall_s = slam->wall_s;
+    if (job.on_pass) job.on_pass(0);
+  }
   return r;
 }
 

@@ -67,14 +67,15 @@ std::vector<OptionDoc> MapConfig::describe() {
   const MapConfig defaults;
   std::vector<OptionDoc> docs = {
       {"input", "poses", toString(defaults.poses), "", "where each scan's robot pose comes from",
-       "auto, simplemap, ground_truth, odometry, scan_matching, fixed"},
+       "auto, simplemap, ground_truth, odometry, scan_matching, fixed, slam"},
       {"input", "fixed_pose", formatFixedPose(defaults.fixed_pose), "",
        "x y phi [m m rad]: the pose of every scan with poses = fixed", "three finite numbers"}};
   for (auto&& more : {DynamicMapOptions::table().describe(defaults.map),
                       InsertionOptions::table().describe(defaults.insertion),
                       ObjectOptions::table().describe(defaults.objects),
                       PeopleOptions::table().describe(defaults.people),
-                      ScanMatchOptions::table().describe(defaults.scan_matching)}) {
+                      ScanMatchOptions::table().describe(defaults.scan_matching),
+                      SlamOptions::table().describe(defaults.slam)}) {
     docs.insert(docs.end(), more.begin(), more.end());
   }
   return docs;

@@ -37,6 +37,8 @@
 namespace dynamap {
 
 class IniFile;
+template <typename T>
+class OptionTable;
 
 struct SlamOptions {
   static constexpr const char* kSection = "slam";
@@ -75,6 +77,8 @@ struct SlamOptions {
   double loop_gate = 16.0;         ///< chi^2 above which a loop closure is rejected (0, 1e9]
   int max_rounds = 3;              ///< optimise / reject rounds per optimisation [1, 100]
 
+  /// Every key of [slam]: name, member, range, unit, meaning.
+  static const OptionTable<SlamOptions>& table();
   /// Strict load: unknown keys, malformed numbers and out-of-range values throw ConfigError.
   void load(const IniFile& ini);
   /// Throws ConfigError ("<source>: [slam] key: why") for the first rule broken.

@@ -13,6 +13,7 @@
 #include "dynamap/input/carmen_reader.h"
 #include "dynamap/mapping/plain_grid.h"
 #include "dynamap/pipeline/mapper.h"
+#include "dynamap/pipeline/slam_run.h"
 
 namespace dynamap {
 
@@ -27,6 +28,9 @@ struct MapJob {
   /// Called after every scan with the share of the input read (negative: unknown) and the
   /// scans mapped so far; may be empty.
   std::function<void(double fraction, std::size_t scans_used)> progress;
+  /// Pose source slam: called when pass `pass` (1: the trajectory, 2: the mapping) begins, and
+  /// with pass 0 when both are done; `progress` then reports each pass. May be empty.
+  std::function<void(int pass)> on_pass;
 };
 
 struct MapJobResult {
@@ -39,6 +43,9 @@ struct MapJobResult {
   double wall_s = 0;                        ///< the run without the baseline
   double baseline_wall_s = 0;               ///< the baseline alone
   InputOutcome outcome;  ///< fault: the input ended in one, outputs cover what came before
+  /// Pose source slam: pass 1's counts and time (wall_s is then pass 2's).
+  std::optional<SlamStats> slam;
+  double slam_wall_s = 0;
 };
 
 /// Runs the job. Throws InputError when the input cannot be opened (nothing written then), and
