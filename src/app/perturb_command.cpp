@@ -37,8 +37,8 @@ struct Noise {
 mrpt::poses::CPose2D noisyIncrement(const mrpt::poses::CPose2D& u, const Noise& n, sim::Rng& rng) {
   const double d = std::hypot(u.x(), u.y());
   const double x = u.x() + rng.gaussian(n.trans * d), y = u.y() + rng.gaussian(n.trans * d);
-  const double phi = u.phi() + rng.gaussian(n.rot * std::abs(u.phi()) + n.rot_per_m * d) +
-                     n.heading_bias * d;
+  const double phi =
+      u.phi() + rng.gaussian(n.rot * std::abs(u.phi()) + n.rot_per_m * d) + n.heading_bias * d;
   return {x, y, phi};
 }
 

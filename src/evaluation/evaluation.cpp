@@ -569,7 +569,8 @@ namespace {
 double alignedRmse(const std::vector<TimedPose>& est, const std::vector<TimedPose>& gt) {
   const double n = static_cast<double>(est.size());
   double ex = 0, ey = 0, gx = 0, gy = 0;
-  for (std::size_t i = 0; i < est.size(); ++i) ex += est[i].x, ey += est[i].y, gx += gt[i].x, gy += gt[i].y;
+  for (std::size_t i = 0; i < est.size(); ++i)
+    ex += est[i].x, ey += est[i].y, gx += gt[i].x, gy += gt[i].y;
   ex /= n, ey /= n, gx /= n, gy /= n;
   double sxx = 0, sxy = 0;  // sum of dot and cross products of the centred positions
   for (std::size_t i = 0; i < est.size(); ++i) {

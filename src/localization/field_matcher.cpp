@@ -100,8 +100,8 @@ FieldMatch searchLocal(const LikelihoodField& field, const std::vector<mrpt::mat
     for (int dy = -shift; dy <= shift; ++dy) {
       for (int dx = -shift; dx <= shift; ++dx) {
         const double score = sumAt(field, cx, cy, dx, dy) / n;
-        const double value = score - offset_cost * (dx * dx + dy * dy) * res * res -
-                             turn_cost * dphi * dphi;
+        const double value =
+            score - offset_cost * (dx * dx + dy * dy) * res * res - turn_cost * dphi * dphi;
         if (value <= best_value) continue;
         best_value = value;
         best.score = score;
@@ -175,7 +175,8 @@ FieldMatch refine(const LikelihoodField& field, const std::vector<mrpt::math::TP
                   double translation_weight, double rotation_weight, int max_iterations) {
   auto total = [&](const mrpt::poses::CPose2D& p, Eigen::Vector3d& g, Eigen::Matrix3d& h) {
     double cost = pointTerms(field, pts, p, g, h);
-    const double wt = translation_weight * translation_weight, wr = rotation_weight * rotation_weight;
+    const double wt = translation_weight * translation_weight,
+                 wr = rotation_weight * rotation_weight;
     const Eigen::Vector3d d(p.x() - prior.x(), p.y() - prior.y(),
                             mrpt::math::wrapToPi(p.phi() - prior.phi()));
     const Eigen::Vector3d w(wt, wt, wr);
@@ -213,7 +214,8 @@ FieldMatch refine(const LikelihoodField& field, const std::vector<mrpt::math::TP
   double gx, gy, sum = 0;
   const double c = std::cos(m.pose.phi()), s = std::sin(m.pose.phi());
   for (const auto& p : pts) {
-    sum += field.interpolate(m.pose.x() + c * p.x - s * p.y, m.pose.y() + s * p.x + c * p.y, gx, gy);
+    sum +=
+        field.interpolate(m.pose.x() + c * p.x - s * p.y, m.pose.y() + s * p.x + c * p.y, gx, gy);
   }
   m.score = sum / static_cast<double>(pts.size());
   return m;

@@ -59,8 +59,8 @@ LikelihoodField LikelihoodField::fromGrid(const mrpt::maps::COccupancyGridMap2D&
   for (int dy = -reach; dy <= reach; ++dy) {
     for (int dx = -reach; dx <= reach; ++dx) {
       const double d2 = (dx * dx + dy * dy) * f.res_ * f.res_;
-      kernel.push_back(static_cast<std::uint8_t>(
-          std::lround(kMax * std::exp(-0.5 * d2 / (sigma_m * sigma_m)))));
+      kernel.push_back(
+          static_cast<std::uint8_t>(std::lround(kMax * std::exp(-0.5 * d2 / (sigma_m * sigma_m)))));
     }
   }
   const int side = 2 * reach + 1;

@@ -17,68 +17,88 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 }  // namespace
 
+namespace {
+
+using O = SlamOptions;
+
+// The submaps, the loop search's field and the edges' standard deviations.
+std::vector<Option<O>> graphRows() {
+  return {
+      {"submap_length_m", &O::submap_length_m, Range::openClosed(0.1, 100), "m",
+       "path a submap covers"},
+      {"submap_max_scans", &O::submap_max_scans, Range::closed(2, 100000), "",
+       "a submap holds at most this many scans"},
+      {"occupied_threshold", &O::occupied_threshold, Range::open(0.5, 1), "",
+       "S cells of a finished submap above this P(occ) are walls"},
+      {"field_sigma_m", &O::field_sigma_m, Range::openClosed(0, 1), "m",
+       "sd of a finished submap's likelihood field around its walls"},
+      {"point_stride", &O::point_stride, Range::closed(1, 100), "",
+       "every n-th beam is matched in a loop search"},
+      {"angle_step_deg", &O::angle_step_deg, Range::openClosed(0, 10), "deg",
+       "heading step of a loop search"},
+      {"odometry_sigma_per_m", &O::odometry_sigma_per_m, Range::openClosed(0, 10), "",
+       "odometry edges: translation sd per metre"},
+      {"odometry_sigma_per_rad", &O::odometry_sigma_per_rad, Range::openClosed(0, 10), "",
+       "odometry edges: heading sd per radian"},
+      {"match_sigma_m", &O::match_sigma_m, Range::openClosed(0, 10), "m",
+       "scan-match edges: translation sd"},
+      {"match_sigma_deg", &O::match_sigma_deg, Range::openClosed(0, 90), "deg",
+       "scan-match edges: heading sd"},
+      {"loop_sigma_m", &O::loop_sigma_m, Range::openClosed(0, 10), "m",
+       "loop-closure edges: translation sd"},
+      {"loop_sigma_deg", &O::loop_sigma_deg, Range::openClosed(0, 90), "deg",
+       "loop-closure edges: heading sd"},
+  };
+}
+
+// Loop closure and the optimiser.
+std::vector<Option<O>> loopRows() {
+  return {
+      {"loop_every_m", &O::loop_every_m, Range::openClosed(0, 1000), "m",
+       "path between loop closure attempts"},
+      {"loop_min_path_m", &O::loop_min_path_m, Range::closed(0, 1e6), "m",
+       "only submaps this far back along the path"},
+      {"loop_max_distance_m", &O::loop_max_distance_m, Range::openClosed(0, 1000), "m",
+       "only submaps whose anchor lies this close (estimate)"},
+      {"loop_max_candidates", &O::loop_max_candidates, Range::closed(1, 100), "",
+       "the nearest n such submaps are searched per attempt"},
+      {"loop_window_m", &O::loop_window_m, Range::closed(0, 20), "m",
+       "loop search window after a loop closure"},
+      {"loop_window_per_m", &O::loop_window_per_m, Range::closed(0, 1), "",
+       "it grows by this per metre of path since the last one"},
+      {"loop_max_window_m", &O::loop_max_window_m, Range::closed(0, 20), "m",
+       "the loop search window's upper bound"},
+      {"loop_window_deg", &O::loop_window_deg, Range::closed(0, 180), "deg",
+       "heading window after a loop closure"},
+      {"loop_window_deg_per_m", &O::loop_window_deg_per_m, Range::closed(0, 10), "deg",
+       "it grows by this per metre of path"},
+      {"loop_max_window_deg", &O::loop_max_window_deg, Range::closed(0, 180), "deg",
+       "the heading window's upper bound"},
+      {"loop_min_score", &O::loop_min_score, Range::closed(0, 1), "",
+       "a loop closure's points' mean field value"},
+      {"loop_ambiguity_ratio", &O::loop_ambiguity_ratio, Range::closed(0, 1), "",
+       "runner-up / best above this: ambiguous"},
+      {"loop_ambiguity_m", &O::loop_ambiguity_m, Range::openClosed(0, 20), "m",
+       "runner-ups this far from the best count"},
+      {"optimise_every_nodes", &O::optimise_every_nodes, Range::closed(1, 1000000), "",
+       "nodes between optimisations (new loops)"},
+      {"max_iterations", &O::max_iterations, Range::closed(1, 10000), "",
+       "Levenberg-Marquardt iterations per optimisation"},
+      {"loop_gate", &O::loop_gate, Range::openClosed(0, 1e9), "",
+       "chi^2 above which a loop closure is rejected"},
+      {"max_rounds", &O::max_rounds, Range::closed(1, 100), "",
+       "optimise-and-reject rounds per optimisation"},
+  };
+}
+
+}  // namespace
+
 const OptionTable<SlamOptions>& SlamOptions::table() {
-  using O = SlamOptions;
-  static const OptionTable<O> t(kSection, {
-          {"submap_length_m", &O::submap_length_m, Range::openClosed(0.1, 100), "m",
-           "path a submap covers"},
-          {"submap_max_scans", &O::submap_max_scans, Range::closed(2, 100000), "",
-           "a submap holds at most this many scans"},
-          {"occupied_threshold", &O::occupied_threshold, Range::open(0.5, 1), "",
-           "S cells of a finished submap above this P(occ) are walls"},
-          {"field_sigma_m", &O::field_sigma_m, Range::openClosed(0, 1), "m",
-           "sd of a finished submap's likelihood field around its walls"},
-          {"point_stride", &O::point_stride, Range::closed(1, 100), "",
-           "every n-th beam is matched in a loop search"},
-          {"angle_step_deg", &O::angle_step_deg, Range::openClosed(0, 10), "deg",
-           "heading step of a loop search"},
-          {"odometry_sigma_per_m", &O::odometry_sigma_per_m, Range::openClosed(0, 10), "",
-           "odometry edges: translation sd per metre"},
-          {"odometry_sigma_per_rad", &O::odometry_sigma_per_rad, Range::openClosed(0, 10), "",
-           "odometry edges: heading sd per radian"},
-          {"match_sigma_m", &O::match_sigma_m, Range::openClosed(0, 10), "m",
-           "scan-match edges: translation sd"},
-          {"match_sigma_deg", &O::match_sigma_deg, Range::openClosed(0, 90), "deg",
-           "scan-match edges: heading sd"},
-          {"loop_sigma_m", &O::loop_sigma_m, Range::openClosed(0, 10), "m",
-           "loop-closure edges: translation sd"},
-          {"loop_sigma_deg", &O::loop_sigma_deg, Range::openClosed(0, 90), "deg",
-           "loop-closure edges: heading sd"},
-          {"loop_every_m", &O::loop_every_m, Range::openClosed(0, 1000), "m",
-           "path between loop closure attempts"},
-          {"loop_min_path_m", &O::loop_min_path_m, Range::closed(0, 1e6), "m",
-           "only submaps this far back along the path"},
-          {"loop_max_distance_m", &O::loop_max_distance_m, Range::openClosed(0, 1000), "m",
-           "only submaps whose anchor lies this close (estimate)"},
-          {"loop_max_candidates", &O::loop_max_candidates, Range::closed(1, 100), "",
-           "the nearest n such submaps are searched per attempt"},
-          {"loop_window_m", &O::loop_window_m, Range::closed(0, 20), "m",
-           "loop search window after a loop closure"},
-          {"loop_window_per_m", &O::loop_window_per_m, Range::closed(0, 1), "",
-           "it grows by this per metre of path since the last one"},
-          {"loop_max_window_m", &O::loop_max_window_m, Range::closed(0, 20), "m",
-           "the loop search window's upper bound"},
-          {"loop_window_deg", &O::loop_window_deg, Range::closed(0, 180), "deg",
-           "heading window after a loop closure"},
-          {"loop_window_deg_per_m", &O::loop_window_deg_per_m, Range::closed(0, 10), "deg",
-           "it grows by this per metre of path"},
-          {"loop_max_window_deg", &O::loop_max_window_deg, Range::closed(0, 180), "deg",
-           "the heading window's upper bound"},
-          {"loop_min_score", &O::loop_min_score, Range::closed(0, 1), "",
-           "a loop closure's points' mean field value"},
-          {"loop_ambiguity_ratio", &O::loop_ambiguity_ratio, Range::closed(0, 1), "",
-           "runner-up / best above this: ambiguous"},
-          {"loop_ambiguity_m", &O::loop_ambiguity_m, Range::openClosed(0, 20), "m",
-           "runner-ups this far from the best count"},
-          {"optimise_every_nodes", &O::optimise_every_nodes, Range::closed(1, 1000000), "",
-           "nodes between optimisations (new loops)"},
-          {"max_iterations", &O::max_iterations, Range::closed(1, 10000), "",
-           "Levenberg-Marquardt iterations per optimisation"},
-          {"loop_gate", &O::loop_gate, Range::openClosed(0, 1e9), "",
-           "chi^2 above which a loop closure is rejected"},
-          {"max_rounds", &O::max_rounds, Range::closed(1, 100), "",
-           "optimise-and-reject rounds per optimisation"},
-  });
+  static const OptionTable<O> t(kSection, [] {
+    std::vector<Option<O>> rows = graphRows(), more = loopRows();
+    rows.insert(rows.end(), more.begin(), more.end());
+    return rows;
+  }());
   return t;
 }
 
@@ -149,10 +169,11 @@ void Slam::add(const mrpt::poses::CPose2D& odometry,
     graph_.addNode(graph_.pose(i - 1) + step);
     // Odometry: sd grows with the distance and the turn; a floor keeps it invertible.
     const double d = std::hypot(inc.x(), inc.y());
-    PoseEdge e{i - 1, i, inc,
-               diagonalInformation(0.01 + o_.odometry_sigma_per_m * d,
-                                   0.2 * kDegToRad + o_.odometry_sigma_per_rad * std::abs(inc.phi())),
-               EdgeKind::Odometry};
+    PoseEdge e{
+        i - 1, i, inc,
+        diagonalInformation(0.01 + o_.odometry_sigma_per_m * d,
+                            0.2 * kDegToRad + o_.odometry_sigma_per_rad * std::abs(inc.phi())),
+        EdgeKind::Odometry};
     graph_.addEdge(e);
     if (!active_.empty() && active_.front()->anchor() != i && stats_.matched > 0 &&
         last_match_ok_) {
@@ -167,7 +188,8 @@ void Slam::add(const mrpt::poses::CPose2D& odometry,
     last_attempt_path_ = path_.back();
     searchLoops(pts);
   }
-  if (pending_loops_ && graph_.size() - nodes_at_last_optimise_ >= std::size_t(o_.optimise_every_nodes)) {
+  if (pending_loops_ &&
+      graph_.size() - nodes_at_last_optimise_ >= std::size_t(o_.optimise_every_nodes)) {
     optimise();
   }
 }
@@ -191,8 +213,7 @@ mrpt::poses::CPose2D Slam::frontEnd(const mrpt::poses::CPose2D& guess,
 void Slam::updateSubmaps(const mrpt::obs::CObservation2DRangeScan& scan) {
   const std::size_t i = front_.size() - 1;
   const double path = path_.back();
-  const bool start = active_.empty() ||
-                     path - active_start_.back() >= 0.5 * o_.submap_length_m ||
+  const bool start = active_.empty() || path - active_start_.back() >= 0.5 * o_.submap_length_m ||
                      active_.back()->scans() * 2 >= static_cast<std::size_t>(o_.submap_max_scans);
   if (start) {
     active_.push_back(std::make_unique<Submap>(i, map_options_, insertion_));
@@ -244,7 +265,8 @@ bool Slam::tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts
   ++stats_.loop_attempts;
   const std::size_t i = graph_.size() - 1;
   const mrpt::poses::CPose2D guess = graph_.pose(i) - graph_.pose(s.anchor());
-  const double window = std::min(o_.loop_max_window_m, o_.loop_window_m + o_.loop_window_per_m * uncertain_m);
+  const double window =
+      std::min(o_.loop_max_window_m, o_.loop_window_m + o_.loop_window_per_m * uncertain_m);
   const double window_deg =
       std::min(o_.loop_max_window_deg, o_.loop_window_deg + o_.loop_window_deg_per_m * uncertain_m);
   const FieldMatch found =

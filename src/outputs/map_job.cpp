@@ -128,8 +128,9 @@ MapJobResult runMapJob(const MapJob& job) {
   if (slam && r.outcome.fault.empty()) r.outcome.fault = slam->outcome.fault;  // pass 1 ended there
   r.baseline_wall_s = std::chrono::duration<double>(w.baseline_time).count();
   r.wall_s = secondsSince(start) - r.baseline_wall_s;
-  writeMapOutputs(job.out_dir, mapper, *source,
-                  {job.input, r.wall_s, r.outcome, w.baseline.get(), r.baseline_wall_s, slam.get()});
+  writeMapOutputs(
+      job.out_dir, mapper, *source,
+      {job.input, r.wall_s, r.outcome, w.baseline.get(), r.baseline_wall_s, slam.get()});
   if (job.frames_every > 0) writeTimelapse(job.out_dir, w.frames_dir);
   r.pose_source = mapper.poseSourceName(*source);
   r.counts = mapper.counts();

@@ -101,7 +101,8 @@ void writeSlamSummary(std::ostream& o, const SlamRun& run) {
     << "    \"optimiser\": {\"runs\": " << s.optimisations << ", \"iterations\": " << s.iterations
     << ", \"final_error\": " << fmt("%.6g", s.final_error)
     << ", \"converged\": " << (s.converged ? "true" : "false") << "},\n"
-    << "    \"poses\": " << jsonString(s.converged ? "optimised" : "front end (the optimiser did not converge)")
+    << "    \"poses\": "
+    << jsonString(s.converged ? "optimised" : "front end (the optimiser did not converge)")
     << "\n  },\n";
 }
 

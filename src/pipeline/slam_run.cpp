@@ -13,7 +13,8 @@ SlamRun estimateTrajectory(ScanSource& source, const MapConfig& config,
                            const std::function<void(std::size_t)>& on_scan) {
   const auto start = std::chrono::steady_clock::now();
   SlamRun run;
-  run.slam = std::make_unique<Slam>(config.slam, config.scan_matching, config.map, config.insertion);
+  run.slam =
+      std::make_unique<Slam>(config.slam, config.scan_matching, config.map, config.insertion);
   ScanRecord rec;
   std::size_t done = 0;
   while (true) {

@@ -52,7 +52,8 @@ std::string scenario(const std::string& name, double outer_x, double outer_y, do
 std::string simulate(const std::string& dir, const std::string& name, const std::string& text) {
   std::ofstream(dir + "/" + name + ".ini") << text;
   std::string out;
-  EXPECT_EQ(test::run(kExe + " simulate --scenario " + dir + "/" + name + ".ini --out " + dir, &out), 0)
+  EXPECT_EQ(
+      test::run(kExe + " simulate --scenario " + dir + "/" + name + ".ini --out " + dir, &out), 0)
       << out;
   fs::rename(dir + "/" + name + ".gt.txt", dir + "/gt.txt");
   return dir + "/" + name + ".rawlog";
@@ -69,10 +70,12 @@ class SlamLoop : public ::testing::Test {
     log_ = new std::string(simulate(*dir_, "loop", scenario("loop", 6, 4, 4, 2, false, 130)));
     for (const char* run : {"a", "b"}) {
       EXPECT_EQ(test::run(kExe + " map --no-baseline --poses slam --input " + *log_ + " --out " +
-                          *dir_ + "/" + run), 0);
+                          *dir_ + "/" + run),
+                0);
     }
     EXPECT_EQ(test::run(kExe + " map --no-baseline --poses odometry --input " + *log_ + " --out " +
-                        *dir_ + "/odo"), 0);
+                        *dir_ + "/odo"),
+              0);
   }
   static std::string *dir_, *log_;
 };
@@ -105,8 +108,12 @@ TEST_F(SlamLoop, SameInputGivesTheSamePosesAndGraphByteForByte) {
 TEST(SlamSymmetric, ASymmetricRingKeepsItsAccuracy) {
   const std::string dir = test::tempDir("slam-sym");
   const std::string log = simulate(dir, "ring", scenario("ring", 6, 6, 4, 4, true, 200));
-  ASSERT_EQ(test::run(kExe + " map --no-baseline --poses slam --input " + log + " --out " + dir + "/s"), 0);
-  ASSERT_EQ(test::run(kExe + " map --no-baseline --poses odometry --input " + log + " --out " + dir + "/o"), 0);
+  ASSERT_EQ(
+      test::run(kExe + " map --no-baseline --poses slam --input " + log + " --out " + dir + "/s"),
+      0);
+  ASSERT_EQ(test::run(kExe + " map --no-baseline --poses odometry --input " + log + " --out " +
+                      dir + "/o"),
+            0);
   const double slam = alignedError(dir + "/s/poses.txt", dir + "/gt.txt");
   EXPECT_LT(slam, 0.06);
   EXPECT_LT(slam, alignedError(dir + "/o/poses.txt", dir + "/gt.txt"));
@@ -135,8 +142,11 @@ void writeRoomLog(const std::string& path, std::size_t steps, std::size_t with_o
 TEST(SlamInput, AutoPicksSlamForALogWithOdometryOnly) {
   const std::string dir = test::tempDir("slam-auto");
   writeRoomLog(dir + "/room.rawlog", 40, 40);
-  ASSERT_EQ(test::run(kExe + " map --no-baseline --input " + dir + "/room.rawlog --out " + dir + "/o"), 0);
-  EXPECT_NE(test::readFile(dir + "/o/summary.json").find("\"pose_source\": \"slam\""), std::string::npos);
+  ASSERT_EQ(
+      test::run(kExe + " map --no-baseline --input " + dir + "/room.rawlog --out " + dir + "/o"),
+      0);
+  EXPECT_NE(test::readFile(dir + "/o/summary.json").find("\"pose_source\": \"slam\""),
+            std::string::npos);
   EXPECT_TRUE(fs::exists(dir + "/o/graph.g2o"));
 }
 
@@ -144,15 +154,21 @@ TEST(SlamInput, ALogWithoutOdometryIsAnErrorNamingIt) {
   const std::string dir = test::tempDir("slam-noodo");
   writeRoomLog(dir + "/scans.rawlog", 20, 0);
   std::string out;
-  EXPECT_EQ(test::run(kExe + " map --poses slam --input " + dir + "/scans.rawlog --out " + dir + "/o", &out), 1);
-  EXPECT_NE(out.find(dir + "/scans.rawlog: pose source slam needs odometry"), std::string::npos) << out;
+  EXPECT_EQ(
+      test::run(kExe + " map --poses slam --input " + dir + "/scans.rawlog --out " + dir + "/o",
+                &out),
+      1);
+  EXPECT_NE(out.find(dir + "/scans.rawlog: pose source slam needs odometry"), std::string::npos)
+      << out;
 }
 
 TEST(SlamInput, OdometryThatStopsMidwayKeepsTheScansBeforeIt) {
   const std::string dir = test::tempDir("slam-stop");
   writeRoomLog(dir + "/half.rawlog", 80, 40);
   std::string out;
-  const int status = test::run(kExe + " map --no-baseline --poses slam --input " + dir + "/half.rawlog --out " + dir + "/o", &out);
+  const int status = test::run(
+      kExe + " map --no-baseline --poses slam --input " + dir + "/half.rawlog --out " + dir + "/o",
+      &out);
   EXPECT_TRUE(status == 0 || status == 4) << out;
   const auto poses = readPoseFile(dir + "/o/poses.txt");
   ASSERT_GE(poses.size(), 40u) << out;
@@ -167,18 +183,27 @@ TEST(Perturb, SameSeedSameBytesAndTheTruthBeside) {
   writeRoomLog(dir + "/room.rawlog", 60, 60);
   // The room log's odometry is exact: as ground truth, from a companion file.
   std::ofstream gt(dir + "/room.gt.txt");
-  for (std::size_t i = 0; i < 60; ++i) gt << std::fixed << 1000.0 + 0.2 * double(i) << " " << -3 + 0.05 * double(i) << " 0 0\n";
+  for (std::size_t i = 0; i < 60; ++i)
+    gt << std::fixed << 1000.0 + 0.2 * double(i) << " " << -3 + 0.05 * double(i) << " 0 0\n";
   gt.close();
   for (const char* d : {"p1", "p2"}) {
-    ASSERT_EQ(test::run(kExe + " perturb --input " + dir + "/room.rawlog --out " + dir + "/" + d + " --seed 7"), 0);
+    ASSERT_EQ(test::run(kExe + " perturb --input " + dir + "/room.rawlog --out " + dir + "/" + d +
+                        " --seed 7"),
+              0);
   }
-  ASSERT_EQ(test::run(kExe + " perturb --input " + dir + "/room.rawlog --out " + dir + "/p3 --seed 8"), 0);
+  ASSERT_EQ(
+      test::run(kExe + " perturb --input " + dir + "/room.rawlog --out " + dir + "/p3 --seed 8"),
+      0);
   const std::string a = test::readFile(dir + "/p1/odometry.rawlog");
   EXPECT_EQ(a, test::readFile(dir + "/p2/odometry.rawlog"));
   EXPECT_NE(a, test::readFile(dir + "/p3/odometry.rawlog"));
   EXPECT_EQ(readPoseFile(dir + "/p1/gt.txt").size(), 60u);
   std::string out;
-  EXPECT_EQ(test::run(kExe + " perturb --input " + dir + "/room.rawlog --out " + dir + "/p4 --trans-noise 2", &out), 2) << out;
+  EXPECT_EQ(test::run(kExe + " perturb --input " + dir + "/room.rawlog --out " + dir +
+                          "/p4 --trans-noise 2",
+                      &out),
+            2)
+      << out;
 }
 
 }  // namespace

@@ -95,7 +95,8 @@ TEST(FieldMatcher, BranchAndBoundFindsAKnownOffset) {
   const LikelihoodField field = LikelihoodField::fromGrid(grid, 0.65, 0.05);
   const auto pts = scanEndPoints(*scan, 30, 2);
   const CPose2D guess(at.x() - 0.6, at.y() + 0.25, at.phi() - 4 * M_PI / 180);
-  const FieldMatch m = searchWide(field, pts, guess, 1.0, 10 * M_PI / 180, 0.5 * M_PI / 180, 0.4, 0.9);
+  const FieldMatch m =
+      searchWide(field, pts, guess, 1.0, 10 * M_PI / 180, 0.5 * M_PI / 180, 0.4, 0.9);
   EXPECT_GT(m.score, 0.9);
   EXPECT_NEAR(m.pose.x(), at.x(), 0.03);
   EXPECT_NEAR(m.pose.y(), at.y(), 0.03);

@@ -7,7 +7,8 @@
 // block of `kCoarse` x `kCoarse` cells starting there: an upper bound of every pose of that
 // block, for a branch and bound search (Cartographer's precomputation grids, one level).
 //
-// Values are kept as bytes (1/254 steps, one more byte value marks cells never observed): a finished submap costs two bytes per cell.
+// Values are kept as bytes (1/254 steps, one more byte value marks cells never observed): a
+// finished submap costs two bytes per cell.
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/TPoint2D.h>

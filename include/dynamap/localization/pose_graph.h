@@ -6,8 +6,9 @@
 // edges that can be wrong (a symmetric corridor matches itself shifted), so after each
 // optimisation the loop closures whose residual exceeds a chi-square gate (and half the worst
 // one's: a false closure drags true ones with it) are switched off and the graph is optimised
-// again from the poses it had before: a truncated (redescending) loss on loop closures only. An optimisation that fails to converge, or gives a pose that is not
-// finite, leaves the poses as they were and says so.
+// again from the poses it had before: a truncated (redescending) loss on loop closures only. An
+// optimisation that fails to converge, or gives a pose that is not finite, leaves the poses as they
+// were and says so.
 
 #include <mrpt/poses/CPose2D.h>
 
@@ -30,11 +31,11 @@ struct PoseEdge {
 
 /// What one optimise() did.
 struct OptimiseReport {
-  bool converged = false;       ///< false: the poses were left as they were
-  std::size_t iterations = 0;   ///< Levenberg-Marquardt iterations, over every round
-  double initial_error = 0;     ///< sum of squared Mahalanobis residuals before
-  double final_error = 0;       ///< ... and after (of the active edges)
-  std::size_t rejected = 0;     ///< loop closures switched off by this call
+  bool converged = false;      ///< false: the poses were left as they were
+  std::size_t iterations = 0;  ///< Levenberg-Marquardt iterations, over every round
+  double initial_error = 0;    ///< sum of squared Mahalanobis residuals before
+  double final_error = 0;      ///< ... and after (of the active edges)
+  std::size_t rejected = 0;    ///< loop closures switched off by this call
 };
 
 class PoseGraph {

@@ -44,12 +44,12 @@ struct SlamOptions {
   static constexpr const char* kSection = "slam";
 
   // Submaps and the front end.
-  double submap_length_m = 3.0;     ///< path a submap covers (0.1, 100]
-  int submap_max_scans = 200;       ///< ... or at most this many scans [2, 100000]
-  double occupied_threshold = 0.65; ///< submap cells above this P(occ) are walls (0.5, 1)
-  double field_sigma_m = 0.05;      ///< width of the likelihood field (0, 1]
-  int point_stride = 2;             ///< every n-th beam is matched [1, 100]
-  double angle_step_deg = 0.5;      ///< heading step of every search (0, 10]
+  double submap_length_m = 3.0;      ///< path a submap covers (0.1, 100]
+  int submap_max_scans = 200;        ///< ... or at most this many scans [2, 100000]
+  double occupied_threshold = 0.65;  ///< submap cells above this P(occ) are walls (0.5, 1)
+  double field_sigma_m = 0.05;       ///< width of the likelihood field (0, 1]
+  int point_stride = 2;              ///< every n-th beam is matched [1, 100]
+  double angle_step_deg = 0.5;       ///< heading step of every search (0, 10]
   // Edges (standard deviations).
   double odometry_sigma_per_m = 0.05;    ///< odometry: translation sd per metre (0, 10]
   double odometry_sigma_per_rad = 0.05;  ///< odometry: heading sd per radian turned (0, 10]
@@ -58,24 +58,24 @@ struct SlamOptions {
   double loop_sigma_m = 0.05;            ///< loop closures: translation sd (0, 10]
   double loop_sigma_deg = 1.0;           ///< ... heading sd (0, 90]
   // Loop closure.
-  double loop_every_m = 2.0;            ///< path between loop closure attempts (0, 1000]
-  double loop_min_path_m = 10.0;        ///< submaps at least this far back along the path [0, 1e6]
-  double loop_max_distance_m = 6.0;     ///< ... whose anchor is this close (estimate) (0, 1000]
-  int loop_max_candidates = 3;          ///< the nearest this many submaps per attempt [1, 100]
-  double loop_window_m = 0.3;           ///< search window right after a loop closure [0, 20]
-  double loop_window_per_m = 0.02;      ///< ... growing by this per metre of path since [0, 1]
-  double loop_max_window_m = 2.0;       ///< ... up to this [0, 20]
-  double loop_window_deg = 3.0;         ///< heading window right after a loop closure [0, 180]
-  double loop_window_deg_per_m = 0.1;   ///< ... growing by this per metre of path [0, 10]
-  double loop_max_window_deg = 10.0;    ///< ... up to this [0, 180]
-  double loop_min_score = 0.55;         ///< a loop closure's points' mean field value [0, 1]
-  double loop_ambiguity_ratio = 0.9;    ///< runner-up / best above this: ambiguous [0, 1]
-  double loop_ambiguity_m = 0.4;        ///< runner-ups this far from the best count (0, 20]
+  double loop_every_m = 2.0;           ///< path between loop closure attempts (0, 1000]
+  double loop_min_path_m = 10.0;       ///< submaps at least this far back along the path [0, 1e6]
+  double loop_max_distance_m = 6.0;    ///< ... whose anchor is this close (estimate) (0, 1000]
+  int loop_max_candidates = 3;         ///< the nearest this many submaps per attempt [1, 100]
+  double loop_window_m = 0.3;          ///< search window right after a loop closure [0, 20]
+  double loop_window_per_m = 0.02;     ///< ... growing by this per metre of path since [0, 1]
+  double loop_max_window_m = 2.0;      ///< ... up to this [0, 20]
+  double loop_window_deg = 3.0;        ///< heading window right after a loop closure [0, 180]
+  double loop_window_deg_per_m = 0.1;  ///< ... growing by this per metre of path [0, 10]
+  double loop_max_window_deg = 10.0;   ///< ... up to this [0, 180]
+  double loop_min_score = 0.55;        ///< a loop closure's points' mean field value [0, 1]
+  double loop_ambiguity_ratio = 0.9;   ///< runner-up / best above this: ambiguous [0, 1]
+  double loop_ambiguity_m = 0.4;       ///< runner-ups this far from the best count (0, 20]
   // Optimisation.
-  int optimise_every_nodes = 1000; ///< nodes between optimisations with new loops [1, 1e6]
-  int max_iterations = 100;        ///< Levenberg-Marquardt iterations per run [1, 10000]
-  double loop_gate = 16.0;         ///< chi^2 above which a loop closure is rejected (0, 1e9]
-  int max_rounds = 3;              ///< optimise / reject rounds per optimisation [1, 100]
+  int optimise_every_nodes = 1000;  ///< nodes between optimisations with new loops [1, 1e6]
+  int max_iterations = 100;         ///< Levenberg-Marquardt iterations per run [1, 10000]
+  double loop_gate = 16.0;          ///< chi^2 above which a loop closure is rejected (0, 1e9]
+  int max_rounds = 3;               ///< optimise / reject rounds per optimisation [1, 100]
 
   /// Every key of [slam]: name, member, range, unit, meaning.
   static const OptionTable<SlamOptions>& table();
@@ -90,14 +90,14 @@ struct SlamOptions {
 /// Counts of a run, for summary.json.
 struct SlamStats {
   std::size_t scans = 0, matched = 0, fallbacks = 0, submaps = 0;
-  std::size_t loop_attempts = 0;      ///< (node, submap) pairs searched
-  std::size_t loops_proposed = 0;     ///< searches that found a pose scoring loop_min_score
-  std::size_t loops_ambiguous = 0;    ///< ... dropped as ambiguous
-  std::size_t loops_accepted = 0;     ///< loop edges in the final graph
-  std::size_t loops_rejected = 0;     ///< proposed but ambiguous or rejected by the gate
+  std::size_t loop_attempts = 0;    ///< (node, submap) pairs searched
+  std::size_t loops_proposed = 0;   ///< searches that found a pose scoring loop_min_score
+  std::size_t loops_ambiguous = 0;  ///< ... dropped as ambiguous
+  std::size_t loops_accepted = 0;   ///< loop edges in the final graph
+  std::size_t loops_rejected = 0;   ///< proposed but ambiguous or rejected by the gate
   std::size_t optimisations = 0, iterations = 0;
-  double final_error = 0;     ///< chi^2 of the graph after the last optimisation
-  bool converged = true;      ///< false: the last optimisation failed, front-end poses are kept
+  double final_error = 0;  ///< chi^2 of the graph after the last optimisation
+  bool converged = true;   ///< false: the last optimisation failed, front-end poses are kept
 };
 
 class Slam {

@@ -24,7 +24,8 @@ class Submap {
   Submap(std::size_t anchor, const DynamicMapOptions& map, const InsertionOptions& insertion);
 
   /// Inserts `scan` taken from `local_pose` (the robot's pose in the submap's frame).
-  void insert(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& local_pose);
+  void insert(const mrpt::obs::CObservation2DRangeScan& scan,
+              const mrpt::poses::CPose2D& local_pose);
   /// Builds the field from S and frees the grid: no scan can be inserted afterwards.
   void finish(double occupied_threshold, double sigma_m);
   /// The grid; nullptr once finished.

@@ -16,7 +16,7 @@ namespace dynamap {
 
 /// What pass 1 produced.
 struct SlamRun {
-  std::unique_ptr<Slam> slam;              ///< the graph and the counts
+  std::unique_ptr<Slam> slam;               ///< the graph and the counts
   std::vector<mrpt::poses::CPose2D> poses;  ///< one per scan the source returned, in order
   InputOutcome outcome;                     ///< a fault ends pass 1 (and pass 2) at that scan
   double wall_s = 0;                        ///< time of pass 1
