@@ -44,7 +44,7 @@ struct SlamOptions {
   static constexpr const char* kSection = "slam";
 
   // Submaps and the front end.
-  double submap_length_m = 3.0;      ///< path a submap covers (0.1, 100]
+  double submap_length_m = 6.0;      ///< path a submap covers (0.1, 100]
   int submap_max_scans = 200;        ///< ... or at most this many scans [2, 100000]
   double occupied_threshold = 0.65;  ///< submap cells above this P(occ) are walls (0.5, 1)
   double field_sigma_m = 0.05;       ///< width of the likelihood field (0, 1]
@@ -60,11 +60,11 @@ struct SlamOptions {
   // Loop closure.
   double loop_every_m = 2.0;           ///< path between loop closure attempts (0, 1000]
   double loop_min_path_m = 10.0;       ///< submaps at least this far back along the path [0, 1e6]
-  double loop_max_distance_m = 6.0;    ///< ... whose anchor is this close (estimate) (0, 1000]
+  double loop_max_distance_m = 8.0;    ///< ... whose anchor is this close (estimate) (0, 1000]
   int loop_max_candidates = 3;         ///< the nearest this many submaps per attempt [1, 100]
   double loop_window_m = 0.3;          ///< search window right after a loop closure [0, 20]
-  double loop_window_per_m = 0.02;     ///< ... growing by this per metre of path since [0, 1]
-  double loop_max_window_m = 2.0;      ///< ... up to this [0, 20]
+  double loop_window_per_m = 0.03;     ///< ... growing by this per metre of path since [0, 1]
+  double loop_max_window_m = 3.0;      ///< ... up to this [0, 20]
   double loop_window_deg = 3.0;        ///< heading window right after a loop closure [0, 180]
   double loop_window_deg_per_m = 0.1;  ///< ... growing by this per metre of path [0, 10]
   double loop_max_window_deg = 10.0;   ///< ... up to this [0, 180]
