@@ -683,6 +683,30 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
   return ev;
 }
 
+/// --trajectory: `file` against the truth `given` (a pose file such as dynamap perturb's
+/// gt.txt, or the simulator's prefix): the anchored ATE, then the errors that do not depend on
+/// where the estimate starts.
+void scoreTrajectory(const std::string& file, const std::string& given) {
+  const std::string truth = std::filesystem::is_regular_file(given) && given.size() > 4 &&
+                                    given.compare(given.size() - 4, 4, ".txt") == 0
+                                ? given
+                                : truthPrefix(given) + ".gt.txt";
+  const std::vector<TimedPose> estimate = readPoses(file), reference = readPoses(truth);
+  const TrajectoryError e = trajectoryError(estimate, reference);
+  std::cout << "dynamap eval: " << file << " against " << truth << ": " << e.matched
+            << " poses scored, " << e.unmatched << " without truth; ATE RMSE position "
+            << num(e.rmse_xy_m, 4, "n/a") << " m, heading "
+            << num(e.rmse_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg, max position error "
+            << num(e.max_xy_m, 3, "n/a") << " m\n";
+  const AlignedTrajectoryError a = alignedTrajectoryError(estimate, reference);
+  std::cout << "dynamap eval: after the best rigid alignment: position RMSE "
+            << num(a.aligned_rmse_xy_m, 4, "n/a") << " m; relative error over 1 m of path "
+            << num(a.rel_1m_xy_m, 4, "n/a") << " m, "
+            << num(a.rel_1m_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg; over 10 m "
+            << num(a.rel_10m_xy_m, 4, "n/a") << " m, "
+            << num(a.rel_10m_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg\n";
+}
+
 }  // namespace
 
 int runEval(const Args& args) {
@@ -713,27 +737,7 @@ int runEval(const Args& args) {
     if (!vm.count("truth") || vm.count("scenario") || vm.count("result")) {
       throw UsageError("--trajectory takes --truth only");
     }
-    const std::string file = vm["trajectory"].as<std::string>();
-    // A pose file itself (dynamap perturb's gt.txt), or the simulator's prefix.
-    const std::string given = vm["truth"].as<std::string>();
-    const std::string truth = std::filesystem::is_regular_file(given) && given.size() > 4 &&
-                                      given.compare(given.size() - 4, 4, ".txt") == 0
-                                  ? given
-                                  : truthPrefix(given) + ".gt.txt";
-    const std::vector<TimedPose> estimate = readPoses(file), reference = readPoses(truth);
-    const TrajectoryError e = trajectoryError(estimate, reference);
-    std::cout << "dynamap eval: " << file << " against " << truth << ": " << e.matched
-              << " poses scored, " << e.unmatched << " without truth; ATE RMSE position "
-              << num(e.rmse_xy_m, 4, "n/a") << " m, heading "
-              << num(e.rmse_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg, max position error "
-              << num(e.max_xy_m, 3, "n/a") << " m\n";
-    const AlignedTrajectoryError a = alignedTrajectoryError(estimate, reference);
-    std::cout << "dynamap eval: after the best rigid alignment: position RMSE "
-              << num(a.aligned_rmse_xy_m, 4, "n/a") << " m; relative error over 1 m of path "
-              << num(a.rel_1m_xy_m, 4, "n/a") << " m, "
-              << num(a.rel_1m_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg; over 10 m "
-              << num(a.rel_10m_xy_m, 4, "n/a") << " m, "
-              << num(a.rel_10m_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg\n";
+    scoreTrajectory(vm["trajectory"].as<std::string>(), vm["truth"].as<std::string>());
     return kExitOk;
   }
   for (const char* k : {"scenario", "truth", "result"}) {

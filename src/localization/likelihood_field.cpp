@@ -7,16 +7,13 @@
 
 namespace dynamap {
 
-std::vector<mrpt::math::TPoint2D> scanEndPoints(const mrpt::obs::CObservation2DRangeScan& scan,
-                                                double max_range, std::size_t stride) {
+std::vector<mrpt::math::TPoint2D> hitPoints(const RangeData& rd, std::size_t stride) {
   std::vector<mrpt::math::TPoint2D> pts;
-  const mrpt::poses::CPose2D sensor(scan.sensorPose);  // horizontal scans only
-  const double limit = std::min<double>(max_range, scan.maxRange);
-  pts.reserve(scan.getScanSize() / std::max<std::size_t>(stride, 1) + 1);
-  for (std::size_t i = 0; i < scan.getScanSize(); i += std::max<std::size_t>(stride, 1)) {
-    const double r = scan.getScanRange(i);
-    if (!scan.getScanRangeValidity(i) || !std::isfinite(r) || r <= 0.0 || r >= limit) continue;
-    const double a = scan.getScanAngle(i);
+  const mrpt::poses::CPose2D sensor = rd.mount2D();
+  stride = std::max<std::size_t>(stride, 1);
+  for (std::size_t i = 0; i < rd.size(); i += stride) {
+    if (rd.kinds[i] != BeamKind::Hit) continue;
+    const double r = rd.ranges[i], a = rd.angle(i);
     pts.push_back(sensor + mrpt::math::TPoint2D(r * std::cos(a), r * std::sin(a)));
   }
   return pts;

@@ -134,11 +134,7 @@ void SlamOptions::writeIni(std::ostream& out) const {
 
 Slam::Slam(const SlamOptions& options, const ScanMatchOptions& matching,
            const DynamicMapOptions& map, const InsertionOptions& insertion)
-    : o_(options),
-      matcher_(matching, insertion.max_distance_insertion),
-      map_options_(map),
-      insertion_(insertion),
-      max_range_(insertion.max_distance_insertion) {
+    : o_(options), matcher_(matching), map_options_(map), insertion_(insertion) {
   o_.validate("slam options");
 }
 
@@ -146,13 +142,15 @@ Slam::~Slam() = default;
 
 void Slam::add(const mrpt::poses::CPose2D& odometry,
                const mrpt::obs::CObservation2DRangeScan& scan) {
-  // A scan whose mount is not finite is placed by odometry and kept out of the submaps.
-  const mrpt::poses::CPose3D& mount = scan.sensorPose;
-  const bool usable = std::isfinite(mount.x()) && std::isfinite(mount.y()) &&
-                      std::isfinite(mount.z()) && std::isfinite(mount.yaw()) &&
-                      std::isfinite(mount.pitch()) && std::isfinite(mount.roll());
+  // The scan's geometry once, as the mapping reads it. A scan that is not planar, or whose
+  // mount is not finite, is placed by odometry and kept out of the submaps.
+  const RangeData rd = makeRangeData(scan, insertion_.max_distance_insertion,
+                                     insertion_.horizontal_tolerance_deg * kDegToRad);
+  const mrpt::poses::CPose3D& mount = rd.mount;
+  const bool usable = rd.planar && std::isfinite(mount.x()) && std::isfinite(mount.y()) &&
+                      std::isfinite(mount.yaw());
   std::vector<mrpt::math::TPoint2D> pts;
-  if (usable) pts = scanEndPoints(scan, max_range_, static_cast<std::size_t>(o_.point_stride));
+  if (usable) pts = hitPoints(rd, static_cast<std::size_t>(o_.point_stride));
   const std::size_t i = graph_.size();
   ++stats_.scans;
   if (i == 0) {
@@ -162,7 +160,7 @@ void Slam::add(const mrpt::poses::CPose2D& odometry,
   } else {
     const mrpt::poses::CPose2D inc = odometry - last_odometry_;
     const mrpt::poses::CPose2D pose =
-        pts.empty() ? front_.back() + inc : frontEnd(front_.back() + inc, scan);
+        pts.empty() ? front_.back() + inc : frontEnd(front_.back() + inc, rd);
     const mrpt::poses::CPose2D step = pose - front_.back();
     path_.push_back(path_.back() + std::hypot(step.x(), step.y()));
     front_.push_back(pose);
@@ -183,7 +181,7 @@ void Slam::add(const mrpt::poses::CPose2D& odometry,
     }
   }
   last_odometry_ = odometry;
-  if (!pts.empty()) updateSubmaps(scan);
+  if (!pts.empty()) updateSubmaps(rd);
   if (path_.back() - last_attempt_path_ >= o_.loop_every_m) {
     last_attempt_path_ = path_.back();
     searchLoops(pts);
@@ -194,13 +192,12 @@ void Slam::add(const mrpt::poses::CPose2D& odometry,
   }
 }
 
-mrpt::poses::CPose2D Slam::frontEnd(const mrpt::poses::CPose2D& guess,
-                                    const mrpt::obs::CObservation2DRangeScan& scan) {
+mrpt::poses::CPose2D Slam::frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd) {
   last_match_ok_ = false;
   if (active_.empty()) return guess;
   const Submap& s = *active_.front();
   const mrpt::poses::CPose2D anchor = front_[s.anchor()];
-  const ScanMatchResult r = matcher_.match(*s.map(), scan, guess - anchor);
+  const ScanMatchResult r = matcher_.match(*s.map(), rd, guess - anchor);
   if (!r.matched) {
     ++stats_.fallbacks;
     return guess;
@@ -210,7 +207,7 @@ mrpt::poses::CPose2D Slam::frontEnd(const mrpt::poses::CPose2D& guess,
   return anchor + r.pose;
 }
 
-void Slam::updateSubmaps(const mrpt::obs::CObservation2DRangeScan& scan) {
+void Slam::updateSubmaps(const RangeData& rd) {
   const std::size_t i = front_.size() - 1;
   const double path = path_.back();
   const bool start = active_.empty() || path - active_start_.back() >= 0.5 * o_.submap_length_m ||
@@ -221,7 +218,7 @@ void Slam::updateSubmaps(const mrpt::obs::CObservation2DRangeScan& scan) {
     ++stats_.submaps;
   }
   for (auto& s : active_) {
-    s->insert(scan, front_[i] - front_[s->anchor()]);
+    s->insert(rd, front_[i] - front_[s->anchor()]);
     s->setLastNode(i);
   }
   const bool full = path - active_start_.front() >= o_.submap_length_m ||

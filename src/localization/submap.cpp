@@ -1,7 +1,5 @@
 #include "dynamap/localization/submap.h"
 
-#include <mrpt/poses/CPose3D.h>
-
 namespace dynamap {
 
 Submap::Submap(std::size_t anchor, const DynamicMapOptions& map, const InsertionOptions& insertion)
@@ -10,10 +8,9 @@ Submap::Submap(std::size_t anchor, const DynamicMapOptions& map, const Insertion
       // The grid grows to fit each scan inserted.
       grid_(std::make_unique<DynamicGridMap>(map, insertion, -2.f, 2.f, -2.f, 2.f)) {}
 
-void Submap::insert(const mrpt::obs::CObservation2DRangeScan& scan,
-                    const mrpt::poses::CPose2D& local_pose) {
+void Submap::insert(const RangeData& rd, const mrpt::poses::CPose2D& local_pose) {
   if (!grid_) return;
-  grid_->insertObservation(scan, mrpt::poses::CPose3D(local_pose));
+  grid_->insertRange(rd, local_pose);
   ++scans_;
 }
 

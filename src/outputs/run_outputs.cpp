@@ -106,6 +106,24 @@ void writeSlamSummary(std::ostream& o, const SlamRun& run) {
     << "\n  },\n";
 }
 
+// The only block that differs between identical runs: how long the passes took.
+void writeTimingSummary(std::ostream& o, const RunCounts& c, const OutputInfo& info) {
+  o << "  \"timing\": {\n"
+    << "    \"note\": \"the only part of the outputs that differs between identical runs\",\n"
+    << "    \"wall_s\": " << std::fixed << std::setprecision(3) << info.wall_s << ",\n"
+    << "    \"scans_per_s\": " << std::setprecision(1)
+    << (info.wall_s > 0 ? c.scans_used / info.wall_s : 0.0);
+  if (info.baseline) {
+    o << ",\n    \"mrpt_baseline_wall_s\": " << std::setprecision(3) << info.baseline_wall_s
+      << ",\n    \"mrpt_baseline_scans_per_s\": " << std::setprecision(1)
+      << (info.baseline_wall_s > 0 ? c.scans_used / info.baseline_wall_s : 0.0);
+  }
+  if (info.slam) {  // wall_s is pass 2's
+    o << ",\n    \"slam_pass1_wall_s\": " << std::setprecision(3) << info.slam->wall_s;
+  }
+  o << "\n  }\n";
+}
+
 void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& source,
                   const OutputInfo& info) {
   const DynamicGridMap& m = mapper.map();
@@ -155,21 +173,8 @@ void writeSummary(std::ostream& o, const Mapper& mapper, const ScanSource& sourc
   if (mapper.scanMatching()) writeScanMatchSummary(o, mapper.scanMatchCounts());
   if (info.slam) writeSlamSummary(o, *info.slam);
   if (info.baseline) writeBaselineSummary(o, m, *info.baseline);
-  o << "  \"timing\": {\n"
-    << "    \"note\": \"the only part of the outputs that differs between identical runs\",\n"
-    << "    \"wall_s\": " << std::fixed << std::setprecision(3) << info.wall_s << ",\n"
-    << "    \"scans_per_s\": " << std::setprecision(1)
-    << (info.wall_s > 0 ? c.scans_used / info.wall_s : 0.0);
-  if (info.baseline) {
-    o << ",\n    \"mrpt_baseline_wall_s\": " << std::setprecision(3) << info.baseline_wall_s
-      << ",\n    \"mrpt_baseline_scans_per_s\": " << std::setprecision(1)
-      << (info.baseline_wall_s > 0 ? c.scans_used / info.baseline_wall_s : 0.0);
-  }
-  if (info.slam) {  // wall_s is pass 2's
-    o << ",\n    \"slam_pass1_wall_s\": " << std::setprecision(3) << info.slam->wall_s;
-  }
-  o << "\n  }\n"
-    << "}\n";
+  writeTimingSummary(o, c, info);
+  o << "}\n";
 }
 
 }  // namespace

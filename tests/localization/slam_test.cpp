@@ -93,7 +93,7 @@ TEST(FieldMatcher, BranchAndBoundFindsAKnownOffset) {
                                    2 * M_PI * 359 / 360);
   grid.insertObservation(*scan, mrpt::poses::CPose3D(at));
   const LikelihoodField field = LikelihoodField::fromGrid(grid, 0.65, 0.05);
-  const auto pts = scanEndPoints(*scan, 30, 2);
+  const auto pts = hitPoints(makeRangeData(*scan, 30, 0.01), 2);
   const CPose2D guess(at.x() - 0.6, at.y() + 0.25, at.phi() - 4 * M_PI / 180);
   const FieldMatch m =
       searchWide(field, pts, guess, 1.0, 10 * M_PI / 180, 0.5 * M_PI / 180, 0.4, 0.9);

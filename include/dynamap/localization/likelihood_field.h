@@ -12,17 +12,17 @@
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/TPoint2D.h>
-#include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <cstdint>
 #include <vector>
 
+#include "dynamap/base/range_data.h"
+
 namespace dynamap {
 
-/// The scan's valid beam end points in the robot's frame (sensor pose applied), cut at
-/// `max_range`; every `stride`-th beam only.
-std::vector<mrpt::math::TPoint2D> scanEndPoints(const mrpt::obs::CObservation2DRangeScan& scan,
-                                                double max_range, std::size_t stride = 1);
+/// The end points of the scan's hits (BeamKind::Hit) in the robot's frame (the mount applied),
+/// every `stride`-th beam only.
+std::vector<mrpt::math::TPoint2D> hitPoints(const RangeData& rd, std::size_t stride = 1);
 
 class LikelihoodField {
  public:

@@ -120,9 +120,8 @@ class Slam {
   const SlamStats& stats() const;
 
  private:
-  mrpt::poses::CPose2D frontEnd(const mrpt::poses::CPose2D& guess,
-                                const mrpt::obs::CObservation2DRangeScan& scan);
-  void updateSubmaps(const mrpt::obs::CObservation2DRangeScan& scan);
+  mrpt::poses::CPose2D frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd);
+  void updateSubmaps(const RangeData& rd);
   void searchLoops(const std::vector<mrpt::math::TPoint2D>& pts);
   bool tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts, double uncertain_m);
   void optimise();
@@ -131,7 +130,6 @@ class Slam {
   ScanMatcher matcher_;
   DynamicMapOptions map_options_;
   InsertionOptions insertion_;
-  double max_range_;
   PoseGraph graph_;
   std::vector<mrpt::poses::CPose2D> front_;  // front-end poses
   std::vector<double> path_;                 // path length at each node

@@ -7,7 +7,6 @@
 // for the front end, the likelihood field of S for loop closures). A finished submap keeps only
 // its field (two bytes per cell of its occupied bounding box).
 
-#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
 #include <cstddef>
@@ -23,9 +22,8 @@ class Submap {
   /// `anchor`: the node whose pose is the submap's frame; the grid's options are the run's.
   Submap(std::size_t anchor, const DynamicMapOptions& map, const InsertionOptions& insertion);
 
-  /// Inserts `scan` taken from `local_pose` (the robot's pose in the submap's frame).
-  void insert(const mrpt::obs::CObservation2DRangeScan& scan,
-              const mrpt::poses::CPose2D& local_pose);
+  /// Inserts a scan taken from `local_pose` (the robot's pose in the submap's frame).
+  void insert(const RangeData& rd, const mrpt::poses::CPose2D& local_pose);
   /// Builds the field from S and frees the grid: no scan can be inserted afterwards.
   void finish(double occupied_threshold, double sigma_m);
   /// The grid; nullptr once finished.
