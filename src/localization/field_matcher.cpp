@@ -59,59 +59,6 @@ double pointTerms(const LikelihoodField& field, const std::vector<mrpt::math::TP
 
 }  // namespace
 
-std::vector<mrpt::math::TPoint2D> knownPoints(const LikelihoodField& field,
-                                              const std::vector<mrpt::math::TPoint2D>& pts,
-                                              const mrpt::poses::CPose2D& pose, int margin) {
-  std::vector<mrpt::math::TPoint2D> out;
-  for (const auto& p : pts) {
-    const mrpt::math::TPoint2D g = pose + p;
-    const int cx = field.cellX(g.x), cy = field.cellY(g.y);
-    if (field.known(cx, cy) && field.known(cx - margin, cy) && field.known(cx + margin, cy) &&
-        field.known(cx, cy - margin) && field.known(cx, cy + margin)) {
-      out.push_back(p);
-    }
-  }
-  return out;
-}
-
-double fieldScore(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
-                  const mrpt::poses::CPose2D& pose) {
-  if (pts.empty()) return 0;
-  std::vector<int> cx, cy;
-  pointCells(field, pts, pose, cx, cy);
-  return sumAt(field, cx, cy, 0, 0) / static_cast<double>(pts.size());
-}
-
-FieldMatch searchLocal(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
-                       const mrpt::poses::CPose2D& guess, double window_m, double window_rad,
-                       double step_rad, double offset_cost, double turn_cost) {
-  FieldMatch best;
-  best.pose = guess;
-  if (pts.empty() || field.empty()) return best;
-  const double res = field.resolution();
-  const int shift = static_cast<int>(std::floor(window_m / res + 1e-9));
-  const int turns = step_rad > 0 ? static_cast<int>(std::floor(window_rad / step_rad + 1e-9)) : 0;
-  const double n = static_cast<double>(pts.size());
-  double best_value = -1e300;
-  std::vector<int> cx, cy;
-  for (int t = -turns; t <= turns; ++t) {
-    const double dphi = t * step_rad;
-    pointCells(field, pts, {guess.x(), guess.y(), guess.phi() + dphi}, cx, cy);
-    for (int dy = -shift; dy <= shift; ++dy) {
-      for (int dx = -shift; dx <= shift; ++dx) {
-        const double score = sumAt(field, cx, cy, dx, dy) / n;
-        const double value =
-            score - offset_cost * (dx * dx + dy * dy) * res * res - turn_cost * dphi * dphi;
-        if (value <= best_value) continue;
-        best_value = value;
-        best.score = score;
-        best.pose = {guess.x() + dx * res, guess.y() + dy * res, guess.phi() + dphi};
-      }
-    }
-  }
-  return best;
-}
-
 FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
                       const mrpt::poses::CPose2D& guess, double window_m, double window_rad,
                       double step_rad, double separation_m, double ambiguity_ratio) {

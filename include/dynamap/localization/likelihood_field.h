@@ -45,10 +45,6 @@ class LikelihoodField {
     const std::uint8_t v = fine_[cx + cy * w_];
     return v == kUnknown ? 0.0 : v * (1.0 / kMax);
   }
-  /// Whether the grid observed the cell (or it lies near a wall); false outside the field.
-  bool known(int cx, int cy) const {
-    return cx >= 0 && cy >= 0 && cx < w_ && cy < h_ && fine_[cx + cy * w_] != kUnknown;
-  }
   /// The largest value over cells [cx, cx + kCoarse) x [cy, cy + kCoarse).
   double coarse(int cx, int cy) const {
     return (cx < -kCoarse || cy < -kCoarse || cx >= w_ || cy >= h_)
