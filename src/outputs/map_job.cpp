@@ -92,7 +92,7 @@ std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
     if (job.progress) job.progress(first.fractionRead(), done);
   }));
   config.poses = PoseSource::Slam;  // config.ini says what ran
-  InputOptions input;  // the log read again the same way
+  InputOptions input;               // the log read again the same way
   input.poses = PoseSource::Slam;
   input.carmen = job.carmen;
   input.bag = job.bag;
