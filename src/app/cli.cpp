@@ -23,6 +23,30 @@ bool parseArgs(const Args& args, const po::options_description& options,
   return true;
 }
 
+bool parseImportCommand(const Args& args, const po::options_description& visible,
+                        const std::string& help_text, const std::string& what,
+                        po::variables_map& vm, std::string& input, std::string& output) {
+  po::options_description all = visible;
+  all.add_options()("input", po::value<std::string>());
+  po::positional_options_description positional;
+  positional.add("input", 1);
+  try {
+    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+    po::notify(vm);
+  } catch (const po::error& e) {
+    throw UsageError(e.what());
+  }
+  if (vm.count("help")) {
+    std::cout << visible << "\n" << help_text;
+    return false;
+  }
+  if (!vm.count("input")) throw UsageError("missing the input " + what);
+  if (!vm.count("out")) throw UsageError("missing --out OUT.rawlog");
+  input = vm["input"].as<std::string>();
+  output = vm["out"].as<std::string>();
+  return true;
+}
+
 bool stderrIsTerminal() {
   return isatty(fileno(stderr)) != 0;
 }

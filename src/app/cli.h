@@ -35,6 +35,13 @@ class Progress {
   std::chrono::steady_clock::time_point last_{};
 };
 
+/// An import command's line: the `visible` options, one input file as a positional argument and
+/// --out. Prints `visible` and `help_text` and returns false for --help; otherwise fills `input`
+/// and `output` or throws UsageError naming what is missing ("missing the input <what>").
+bool parseImportCommand(const Args& args, const po::options_description& visible,
+                        const std::string& help_text, const std::string& what,
+                        po::variables_map& vm, std::string& input, std::string& output);
+
 bool stderrIsTerminal();
 
 }  // namespace dynamap::app

@@ -398,9 +398,9 @@ void printTable(std::ostream& o, const Evaluation& ev) {
   o << "\n  people (CLEAR MOT, gate 0.75 m, persons with >= 3 beams)"
     << (ev.have_people ? "" : "  (no people.csv in the result)") << "\n"
     << "  MOTA " << num(m.mota, 3, "n/a") << "   MOTP " << num(m.motp_m, 3, "n/a") << " m   "
-    << m.ground_truth << " person-scans: " << m.matches << " matched, " << m.misses
-    << " missed, " << m.false_positives << " false positives, " << m.id_switches
-    << " identity switches; " << m.people << " persons, " << m.track_ids << " track ids\n";
+    << m.ground_truth << " person-scans: " << m.matches << " matched, " << m.misses << " missed, "
+    << m.false_positives << " false positives, " << m.id_switches << " identity switches; "
+    << m.people << " persons, " << m.track_ids << " track ids\n";
   for (const auto& n : ev.notes) o << "  note: " << n << "\n";
 }
 
@@ -671,8 +671,8 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
   evaluateCells(scenario, rows, moves, rawlog, config, ev);
   const fs::path people = fs::path(result) / "people.csv";
   ev.have_people = fs::exists(people);
-  ev.mot = evaluateClearMot(rows, ev.have_people ? readPeople(people.string())
-                                                 : std::vector<PersonTrackRow>{});
+  ev.mot = evaluateClearMot(
+      rows, ev.have_people ? readPeople(people.string()) : std::vector<PersonTrackRow>{});
   const fs::path poses = fs::path(result) / "poses.txt";
   ev.have_poses = fs::exists(poses);
   if (ev.have_poses) {

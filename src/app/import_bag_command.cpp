@@ -8,7 +8,7 @@
 #include <iostream>
 #include <optional>
 
-#include "commands.h"
+#include "cli.h"
 #include "dynamap/input/bag_source.h"
 #include "import_output.h"
 
@@ -47,33 +47,18 @@ po::options_description bagImportOptions() {
 
 BagImportArgs parseBagImportArgs(const Args& args, bool& help) {
   po::options_description visible = bagImportOptions();
-  po::options_description all = visible;
-  all.add_options()("input", po::value<std::string>());
-  po::positional_options_description positional;
-  positional.add("input", 1);
   po::variables_map vm;
-  try {
-    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-    po::notify(vm);
-  } catch (const po::error& e) {
-    throw UsageError(e.what());
-  }
-  help = vm.count("help") > 0;
-  if (help) {
-    std::cout << visible << "\n"
-              << "Reads sensor_msgs/LaserScan, /tf, /tf_static and nav_msgs/Odometry with ROS's\n"
-                 "rosbag library; every scan keeps its header stamp and frame (sensorLabel).\n"
-                 "Writes, per scan: CObservationOdometry (label ODOMETRY, when the bag has\n"
-                 "odometry), CObservation2DRangeScan (sensorPose: the mount from /tf),\n"
-                 "CObservationRobotPose (GT, when the bag has the ground-truth frame).\n"
-                 "Scans without the poses the bag offers are skipped and counted.\n";
-    return {};
-  }
   BagImportArgs a;
-  if (!vm.count("input")) throw UsageError("missing the input ROS bag");
-  if (!vm.count("out")) throw UsageError("missing --out OUT.rawlog");
-  a.input = vm["input"].as<std::string>();
-  a.output = vm["out"].as<std::string>();
+  help = !parseImportCommand(
+      args, visible,
+      "Reads sensor_msgs/LaserScan, /tf, /tf_static and nav_msgs/Odometry with ROS's\n"
+      "rosbag library; every scan keeps its header stamp and frame (sensorLabel).\n"
+      "Writes, per scan: CObservationOdometry (label ODOMETRY, when the bag has\n"
+      "odometry), CObservation2DRangeScan (sensorPose: the mount from /tf),\n"
+      "CObservationRobotPose (GT, when the bag has the ground-truth frame).\n"
+      "Scans without the poses the bag offers are skipped and counted.\n",
+      "ROS bag", vm, a.input, a.output);
+  if (help) return {};
   if (vm.count("scan-topic")) a.bag.scan_topic = vm["scan-topic"].as<std::string>();
   if (vm.count("odom-topic")) a.bag.odom_topic = vm["odom-topic"].as<std::string>();
   a.bag.odom_frame = vm["odom-frame"].as<std::string>();

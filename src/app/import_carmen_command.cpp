@@ -15,7 +15,7 @@
 #include <iostream>
 #include <optional>
 
-#include "commands.h"
+#include "cli.h"
 #include "dynamap/input/carmen_reader.h"
 #include "import_output.h"
 
@@ -49,34 +49,18 @@ po::options_description importOptions() {
 
 ImportArgs parseImportArgs(const Args& args, bool& help) {
   po::options_description visible = importOptions();
-  po::options_description all = visible;
-  all.add_options()("input", po::value<std::string>());
-  po::positional_options_description positional;
-  positional.add("input", 1);
   po::variables_map vm;
-  try {
-    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-    po::notify(vm);
-  } catch (const po::error& e) {
-    throw UsageError(e.what());
-  }
-  help = vm.count("help") > 0;
-  if (help) {
-    std::cout
-        << visible << "\n"
-        << "Reads FLASER/RLASER, ROBOTLASER1, ODOM and the laser PARAM lines of a CARMEN log\n"
-           "(plain or gz); every scan keeps the log's own time (its ipc_timestamp).\n"
-           "Writes, per laser line: CObservationOdometry (label ODOMETRY, when known),\n"
-           "CObservation2DRangeScan (LASER), CObservationRobotPose (GT, the line's pose);\n"
-           "per ODOM line: CObservationOdometry. Other lines are skipped and counted.\n"
-           "See docs/carmen.md.\n";
-    return {};
-  }
   ImportArgs a;
-  if (!vm.count("input")) throw UsageError("missing the input CARMEN log");
-  if (!vm.count("out")) throw UsageError("missing --out OUT.rawlog");
-  a.input = vm["input"].as<std::string>();
-  a.output = vm["out"].as<std::string>();
+  help = !parseImportCommand(
+      args, visible,
+      "Reads FLASER/RLASER, ROBOTLASER1, ODOM and the laser PARAM lines of a CARMEN log\n"
+      "(plain or gz); every scan keeps the log's own time (its ipc_timestamp).\n"
+      "Writes, per laser line: CObservationOdometry (label ODOMETRY, when known),\n"
+      "CObservation2DRangeScan (LASER), CObservationRobotPose (GT, the line's pose);\n"
+      "per ODOM line: CObservationOdometry. Other lines are skipped and counted.\n"
+      "See docs/carmen.md.\n",
+      "CARMEN log", vm, a.input, a.output);
+  if (help) return {};
   if (vm.count("fov")) {
     a.carmen.fov_deg = vm["fov"].as<double>();
     if (!(a.carmen.fov_deg > 0 && a.carmen.fov_deg <= 360)) {
