@@ -24,6 +24,12 @@ BeamKind kindOf(const mrpt::obs::CObservation2DRangeScan& scan, std::size_t i, f
 RangeData makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double insertion_range,
                         double horizontal_tolerance) {
   RangeData rd;
+  makeRangeData(scan, insertion_range, horizontal_tolerance, rd);
+  return rd;
+}
+
+void makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double insertion_range,
+                   double horizontal_tolerance, RangeData& rd) {
   const std::size_t n = scan.getScanSize();
   rd.mount = scan.sensorPose;
   // The mount's z axis pointing down: the scan plane is seen from below.
@@ -35,6 +41,7 @@ RangeData makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double i
   rd.dir = (scan.rightToLeft ^ rd.upside_down) ? 1.0 : -1.0;
   rd.insertion_range = insertion_range;
   rd.sensor_max_range = scan.maxRange;
+  rd.bad_beams = 0;
   rd.ranges.resize(n);
   rd.kinds.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -42,7 +49,6 @@ RangeData makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double i
     rd.kinds[i] = kindOf(scan, i, rd.ranges[i], insertion_range);
     if (rd.kinds[i] == BeamKind::Bad) ++rd.bad_beams;
   }
-  return rd;
 }
 
 }  // namespace dynamap

@@ -159,10 +159,10 @@ bool DynamicGridMap::internal_insertObservation(
   changed_.clear();
   last_stats_ = {};
   if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs)) {
-    const RangeData rd = makeRangeData(*scan, insertion_.max_distance_insertion,
-                                       insertion_.horizontal_tolerance_deg * M_PI / 180.0);
+    makeRangeData(*scan, insertion_.max_distance_insertion,
+                  insertion_.horizontal_tolerance_deg * M_PI / 180.0, range_);
     syncLayers();  // after a resize of S alone (see layersAligned)
-    return insertScan(rd, robotPose ? *robotPose : mrpt::poses::CPose3D());
+    return insertScan(range_, robotPose ? *robotPose : mrpt::poses::CPose3D());
   }
   // Anything else is MRPT's business; keep D aligned if it grew the grid.
   const bool done = Base::internal_insertObservation(obs, robotPose);
@@ -246,11 +246,15 @@ mrpt::poses::CPose2D DynamicGridMap::computeBeams(const RangeData& rd,
   const std::size_t n = rd.size();
   const mrpt::poses::CPose2D sensor = rd.sensorIn(robot_pose);
   const float max_range = static_cast<float>(insertion_.max_distance_insertion);
-  beams_.assign(n, Beam{});
+  // Kept from scan to scan: every field a later step reads is set below or by that step (a beam
+  // left kBeamNone is read for its kind alone).
+  beams_.resize(n);
   float last_valid = max_range;
   last_stats_.beams_bad = rd.bad_beams;
   for (std::size_t i = 0; i < n; ++i) {
     Beam& b = beams_[i];
+    b.kind = kBeamNone;
+    b.reach = 0;
     const double angle = sensor.phi() + rd.angle(i);
     b.cos = std::cos(angle);
     b.sin = std::sin(angle);

@@ -51,5 +51,8 @@ struct RangeData {
 /// pitch or roll exceeds `horizontal_tolerance` [rad] is not planar.
 RangeData makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double insertion_range,
                         double horizontal_tolerance);
+/// The same into `out`, reusing its buffers: the per-scan step allocates nothing once warm.
+void makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double insertion_range,
+                   double horizontal_tolerance, RangeData& out);
 
 }  // namespace dynamap

@@ -189,6 +189,7 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   };
   static constexpr std::size_t kWedgeBeams = 8;  // beam gaps per wedge
   std::vector<Beam> beams_;
+  RangeData range_;  // the scan of insertObservation(), worked out
   std::vector<std::pair<std::size_t, bool>> hits_;  // cell, S Free there before the scan
   std::vector<Wedge> wedges_;
   std::vector<GridPoint> polygon_;

@@ -103,6 +103,7 @@ class Mapper {
   ObjectTracker tracker_;
   PersonTracker people_;
   RobotPath path_;
+  RangeData range_;  // this scan's geometry; its buffers kept from scan to scan
   RunCounts counts_;
   bool have_t_ = false;
   std::unique_ptr<ScanMatcher> matcher_;  // null unless poses is ScanMatching
