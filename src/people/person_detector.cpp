@@ -46,6 +46,11 @@ std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& 
   std::vector<HitPoint2> out;
   for (const HitPoint2& p : hits.points) {
     const int cx = map.x2idx(p.x), cy = map.y2idx(p.y);
+    // Off the grid S knows nothing there (and a far point's index, near INT_MIN, would overflow
+    // with the guard added).
+    if (cx < 0 || cy < 0 || cx >= static_cast<int>(map.getSizeX()) ||
+        cy >= static_cast<int>(map.getSizeY()))
+      continue;
     bool free = true;
     for (int dy = -guard; dy <= guard && free; ++dy) {
       for (int dx = -guard; dx <= guard && free; ++dx) free = map.isStaticFree(cx + dx, cy + dy);
