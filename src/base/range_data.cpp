@@ -44,8 +44,12 @@ void makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double insert
   rd.bad_beams = 0;
   rd.ranges.resize(n);
   rd.kinds.resize(n);
+  if (n == 0) return;
+  // getScanRange() returns a reference into MRPT's contiguous array of ranges: read them as
+  // one array instead of making an out-of-line, index-checked call per beam.
+  const float* ranges = &scan.getScanRange(0);
   for (std::size_t i = 0; i < n; ++i) {
-    rd.ranges[i] = scan.getScanRange(i);
+    rd.ranges[i] = ranges[i];
     rd.kinds[i] = kindOf(scan, i, rd.ranges[i], insertion_range);
     if (rd.kinds[i] == BeamKind::Bad) ++rd.bad_beams;
   }

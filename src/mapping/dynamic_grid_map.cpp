@@ -106,6 +106,7 @@ void DynamicGridMap::syncLayers() {
   dyn_.swap(dyn);
   // Marks only matter within one scan and the grid grows before a scan sets any: start afresh.
   stamp_.assign(m_map.size(), 0);
+  stamped_box_ = {};
   layer_x_min_ = m_xMin;
   layer_y_min_ = m_yMin;
   layer_size_x_ = m_size_x;
@@ -117,6 +118,7 @@ void DynamicGridMap::internal_clear() {
   Base::internal_clear();
   dyn_.clear();
   stamp_.clear();
+  stamped_box_ = {};
   layer_size_x_ = layer_size_y_ = 0;
   syncLayers();
 }
@@ -251,13 +253,15 @@ mrpt::poses::CPose2D DynamicGridMap::computeBeams(const RangeData& rd,
   beams_.resize(n);
   float last_valid = max_range;
   last_stats_.beams_bad = rd.bad_beams;
+  const Directions& dirs = directionsOf(rd);
+  const double c = std::cos(sensor.phi()), s = std::sin(sensor.phi());
   for (std::size_t i = 0; i < n; ++i) {
     Beam& b = beams_[i];
     b.kind = kBeamNone;
     b.reach = 0;
-    const double angle = sensor.phi() + rd.angle(i);
-    b.cos = std::cos(angle);
-    b.sin = std::sin(angle);
+    // The beam's direction turned by the sensor's heading.
+    b.cos = c * dirs.cos[i] - s * dirs.sin[i];
+    b.sin = s * dirs.cos[i] + c * dirs.sin[i];
     const float r = rd.ranges[i];
     switch (rd.kinds[i]) {
       case BeamKind::Bad:
@@ -278,6 +282,22 @@ mrpt::poses::CPose2D DynamicGridMap::computeBeams(const RangeData& rd,
     b.end_y = static_cast<float>(sensor.y() + b.sin * b.reach);
   }
   return sensor;
+}
+
+const DynamicGridMap::Directions& DynamicGridMap::directionsOf(const RangeData& rd) {
+  Directions& d = directions_;
+  if (d.n == rd.size() && d.first == rd.first && d.step == rd.step && d.dir == rd.dir) return d;
+  d.n = rd.size();
+  d.first = rd.first;
+  d.step = rd.step;
+  d.dir = rd.dir;
+  d.cos.resize(d.n);
+  d.sin.resize(d.n);
+  for (std::size_t i = 0; i < d.n; ++i) {
+    d.cos[i] = std::cos(rd.angle(i));
+    d.sin[i] = std::sin(rd.angle(i));
+  }
+  return d;
 }
 
 bool DynamicGridMap::growToFit(const mrpt::poses::CPose2D& sensor) {
@@ -301,14 +321,34 @@ bool DynamicGridMap::growToFit(const mrpt::poses::CPose2D& sensor) {
     }
     resizeGrid(min_x - slack, max_x + slack, min_y - slack, max_y + slack, 0.5f, true);
   }
+  // Every cell the scan updates lies between the sensor and the end points.
+  scan_box_ = {x2idx(min_x), y2idx(min_y), x2idx(max_x), y2idx(max_y)};
   return true;
 }
 
+void DynamicGridMap::CellBox::add(const CellBox& b) {
+  if (b.x1 < b.x0) return;
+  if (x1 < x0) {
+    *this = b;
+    return;
+  }
+  x0 = std::min(x0, b.x0);
+  y0 = std::min(y0, b.y0);
+  x1 = std::max(x1, b.x1);
+  y1 = std::max(y1, b.y1);
+}
+
 void DynamicGridMap::nextStamp() {
-  if (++scan_stamp_ == 0) {  // after 4 billion scans: start the marks again
-    std::fill(stamp_.begin(), stamp_.end(), 0);
+  if (++scan_stamp_ == 0) {  // every 255 scans: start the marks again
+    const CellBox& b = stamped_box_;
+    for (int y = b.y0; y <= b.y1 && b.x0 <= b.x1; ++y) {
+      const auto row = stamp_.begin() + static_cast<std::ptrdiff_t>(y) * m_size_x;
+      std::fill(row + b.x0, row + b.x1 + 1, std::uint8_t{0});
+    }
+    stamped_box_ = {};
     scan_stamp_ = 1;
   }
+  stamped_box_.add(scan_box_);
 }
 
 void DynamicGridMap::applyHits() {
@@ -422,9 +462,9 @@ void DynamicGridMap::sweepFreeArea(const mrpt::poses::CPose2D& sensor) {
 }
 
 DynamicGridMap::MissKernel DynamicGridMap::missKernel() {
-  return {m_map.data(),   dyn_.data(),    stamp_.data(),
-          miss_s_.data(), miss_d_.data(), scan_stamp_,
-          object_cell_,   &changed_,      0};
+  return {m_map.data(),   dyn_.data(),  stamp_.data(), miss_s_.data(),
+          miss_d_.data(), scan_stamp_,  object_cell_,  &changed_,
+          0};
 }
 
 void DynamicGridMap::traceBeamTails(const mrpt::poses::CPose2D& sensor) {
@@ -442,9 +482,8 @@ void DynamicGridMap::traceBeamTails(const mrpt::poses::CPose2D& sensor) {
     const bool whole = b.stop >= b.reach;
     const double ex = whole ? b.end_x : sensor.x() + b.cos * b.stop;
     const double ey = whole ? b.end_y : sensor.y() + b.sin * b.stop;
-    traceRay(x2idx(sx), y2idx(sy), x2idx(ex), y2idx(ey), [&miss, size_x](int cx, int cy) {
-      miss.visit(cx + static_cast<std::size_t>(cy) * size_x);
-    });
+    traceRayIndex(x2idx(sx), y2idx(sy), x2idx(ex), y2idx(ey), size_x,
+                  [&miss](std::size_t idx) { miss.visit(idx); });
   }
   last_stats_.free_cells += miss.freed;
 }

@@ -387,3 +387,29 @@ TEST(DynamicGridMapScenes, ResizingSAloneThroughTheBaseNeverReadsDOutOfItsBounds
 
 }  // namespace
 }  // namespace dynamap
+
+namespace dynamap {
+namespace {
+
+TEST(DynamicGridMap, EveryScanUpdatesItsCellsAfterTheScanMarksWrapRound) {
+  // The marks that keep a scan from updating a cell twice start again every 255 scans. A cell
+  // left marked from before would be skipped: then a scan would update fewer cells than the same
+  // scan does in a fresh map of the same geometry. 600 scans from poses that wander and return.
+  const std::vector<float> ranges(91, 3.0f);
+  std::size_t compared = 0;
+  DynamicGridMap run = emptyMap();
+  for (int k = 0; k < 600; ++k) {
+    const CPose3D pose(1.5 * std::cos(k * 0.05), 1.5 * std::sin(k * 0.031), k * 0.2, 0, 0, 0);
+    ASSERT_TRUE(run.insertObservation(*makeScan(ranges, M_PI), pose));
+    DynamicGridMap fresh = emptyMap();
+    ASSERT_TRUE(fresh.insertObservation(*makeScan(ranges, M_PI), pose));
+    ASSERT_EQ(run.getSizeX(), fresh.getSizeX());  // nothing grew: the same cell geometry
+    ASSERT_EQ(run.lastInsertStats().free_cells, fresh.lastInsertStats().free_cells) << "scan " << k;
+    ASSERT_EQ(run.lastInsertStats().hit_cells, fresh.lastInsertStats().hit_cells) << "scan " << k;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 600u);
+}
+
+}  // namespace
+}  // namespace dynamap

@@ -56,3 +56,31 @@ TEST(RayCast, EveryStepMovesOneCellAlongTheMajorAxis) {
 
 }  // namespace
 }  // namespace dynamap
+
+namespace dynamap {
+namespace {
+
+TEST(RayCast, IndexStepperVisitsTraceRaysCellsInOrder) {
+  // Every direction and length up to 40 cells from a start inside a 100-cell-wide grid, and a
+  // few long rays: the stepped index must be x + y * width of traceRay's cell at every step.
+  constexpr std::size_t kWidth = 100;
+  std::size_t rays = 0;
+  auto check = [&](int x0, int y0, int x1, int y1) {
+    std::vector<std::size_t> got;
+    traceRayIndex(x0, y0, x1, y1, kWidth, [&](std::size_t i) { got.push_back(i); });
+    std::vector<std::size_t> want;
+    for (const auto& [cx, cy] : rayCells(x0, y0, x1, y1)) want.push_back(cx + cy * kWidth);
+    ASSERT_EQ(got, want) << "(" << x0 << "," << y0 << ") -> (" << x1 << "," << y1 << ")";
+    ++rays;
+  };
+  for (int dx = -40; dx <= 40; ++dx) {
+    for (int dy = -40; dy <= 40; ++dy) check(50, 50, 50 + dx, 50 + dy);
+  }
+  check(0, 0, 99, 37);
+  check(99, 99, 1, 0);
+  check(3, 97, 98, 2);
+  EXPECT_EQ(rays, 81u * 81u + 3u);
+}
+
+}  // namespace
+}  // namespace dynamap

@@ -131,24 +131,28 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   struct MissKernel {
     cellType* s;
     cellType* d;
-    std::uint32_t* stamp;
+    std::uint8_t* stamp;
     const cellType* miss_s;
     const cellType* miss_d;
-    std::uint32_t mark;
+    std::uint8_t mark;
     cellType object_cell;
     std::vector<std::uint32_t>* changed;
     std::uint32_t freed;
-    /// Updates cell `i` as crossed, unless this scan already updated it.
+    /// Updates cell `i` as crossed, unless this scan already updated it. Branch-free but for
+    /// the rare change of state: along a beam, cells already updated (by the swept area, by
+    /// a neighbouring beam) and new ones alternate unpredictably.
     inline void visit(std::size_t i) {
-      if (stamp[i] == mark) return;
+      const bool fresh = stamp[i] != mark;
       stamp[i] = mark;
-      const cellType before = d[i];
-      s[i] = miss_s[static_cast<std::uint8_t>(s[i])];
-      d[i] = miss_d[static_cast<std::uint8_t>(before)];
+      const cellType s_before = s[i], d_before = d[i];
+      const cellType s_miss = miss_s[static_cast<std::uint8_t>(s_before)];
+      const cellType d_miss = miss_d[static_cast<std::uint8_t>(d_before)];
+      s[i] = fresh ? s_miss : s_before;
+      d[i] = fresh ? d_miss : d_before;
+      freed += fresh ? 1u : 0u;
       // A miss only ever lowers D's P(occ): only an object cell can change state.
-      if (before < object_cell && d[i] >= object_cell)
+      if (fresh && d_before < object_cell && d_miss >= object_cell)
         changed->push_back(static_cast<std::uint32_t>(i));
-      ++freed;
     }
   };
   MissKernel missKernel();
@@ -163,8 +167,17 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   cellType d_ceiling_ = 0;
 
   std::vector<cellType> dyn_;
-  std::vector<std::uint32_t> stamp_;  // scan number that last updated each cell
-  std::uint32_t scan_stamp_ = 0;
+  // The scan that last updated each cell, modulo 255 (one byte, so that the cells a scan
+  // touches stay in the first-level cache): when the marks wrap round, the cells scans marked
+  // since the last wrap are cleared, a box bounded by how far 255 scans reach, not the map.
+  std::vector<std::uint8_t> stamp_;
+  std::uint8_t scan_stamp_ = 0;
+  struct CellBox {
+    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // inclusive; empty when x1 < x0
+    void add(const CellBox& b);
+  };
+  CellBox scan_box_;     // the cells this scan may touch
+  CellBox stamped_box_;  // the cells marked since the marks last started again
   // Geometry D and stamp_ were laid out for.
   float layer_x_min_ = 0, layer_y_min_ = 0;
   std::uint32_t layer_size_x_ = 0, layer_size_y_ = 0;
@@ -189,6 +202,15 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   };
   static constexpr std::size_t kWedgeBeams = 8;  // beam gaps per wedge
   std::vector<Beam> beams_;
+  /// cos and sin of every beam's direction in the sensor's frame, for the beam geometry they
+  /// were worked out for: a log's scans share one, so they are computed once, not per scan.
+  struct Directions {
+    std::size_t n = 0;
+    double first = 0, step = 0, dir = 0;
+    std::vector<double> cos, sin;
+  };
+  Directions directions_;
+  const Directions& directionsOf(const RangeData& rd);
   RangeData range_;  // the scan of insertObservation(), worked out
   std::vector<std::pair<std::size_t, bool>> hits_;  // cell, S Free there before the scan
   std::vector<Wedge> wedges_;

@@ -1,6 +1,7 @@
 #pragma once
 // Ray traversal over grid cells.
 
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <utility>
@@ -40,6 +41,32 @@ inline void traceRay(int x0, int y0, int x1, int y1, Visit&& visit) {
     fy += step_y;
     cx = static_cast<int>(fx >> kRayFracBits);
     cy = static_cast<int>(fy >> kRayFracBits);
+  }
+}
+
+/// traceRay's cells as linear indices x + y * size_x, for a grid `size_x` cells wide: the same
+/// cells in the same order, stepping the index itself instead of recomputing it at each cell.
+template <typename Visit>
+inline void traceRayIndex(int x0, int y0, int x1, int y1, std::size_t size_x, Visit&& visit) {
+  const int dx = x1 - x0;
+  const int dy = y1 - y0;
+  const bool x_major = std::abs(dx) > std::abs(dy);
+  const int n = x_major ? std::abs(dx) : std::abs(dy);
+  if (n == 0) return;
+  // The major axis moves one cell per step; the minor one in traceRay's fixed point, whose
+  // integer part changes by at most one cell per step.
+  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(size_x);
+  const int d_major = x_major ? dx : dy, d_minor = x_major ? dy : dx;
+  const std::ptrdiff_t major_step = (d_major > 0 ? 1 : -1) * (x_major ? 1 : row);
+  const std::ptrdiff_t minor_stride = x_major ? row : 1;
+  const int64_t step = (static_cast<int64_t>(d_minor) * (int64_t{1} << kRayFracBits)) / n;
+  int64_t f = static_cast<int64_t>(x_major ? y0 : x0) << kRayFracBits;
+  std::ptrdiff_t idx = x0 + y0 * row;
+  for (int i = 0; i < n; ++i) {
+    visit(static_cast<std::size_t>(idx));
+    const int64_t next = f + step;
+    idx += major_step + ((next >> kRayFracBits) - (f >> kRayFracBits)) * minor_stride;
+    f = next;
   }
 }
 
