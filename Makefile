@@ -79,9 +79,15 @@ demo: build
 	$(DYNAMAP) map --config config/default.ini --input $(DEMO_INPUT) --out $(DEMO_OUT)
 	@echo "dynamap: done; pictures in $(DEMO_OUT)/: static.png (the static map S), dynamic.png (D), overlay.png"
 
+# The readers timed after the insertion figures: one log of each format at hand.
+MALAGA := /usr/share/mrpt/datasets/malaga-cs-fac-building.simplemap.gz
+BENCH_READS ?= $(BENCH_INPUT) rawlogs/people/people.rawlog $(wildcard $(MALAGA)) \
+  fuzz/seeds/bag/small.bag
+
 bench: build
 	@[ -f "$(FREIBURG)" ] || echo "dynamap: $(FREIBURG) not found, benchmarking the bundled corridors rawlog"
-	$(BUILD_DIR)/dynamap_bench --input $(BENCH_INPUT) $(BENCH_ARGS)
+	$(BUILD_DIR)/dynamap_bench --input $(BENCH_INPUT) $(BENCH_ARGS) $(addprefix --read ,$(BENCH_READS))
+	@[ ! -f "$(MALAGA)" ] || $(BUILD_DIR)/dynamap_bench --input $(MALAGA) $(BENCH_ARGS)
 
 # Each config/scenarios/<name>.ini writes rawlogs/<name>/<name>.{rawlog,gt.txt,objects.csv,
 # moves.csv,world.png}; the SimBundled tests fail when the committed files are stale.

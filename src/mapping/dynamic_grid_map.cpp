@@ -451,25 +451,41 @@ void DynamicGridMap::sweepFreeArea(const mrpt::poses::CPose2D& sensor) {
     }
   }
   if (polygon_.size() < 3) return;
-  MissKernel miss = missKernel();
+  const MissKernel miss = missKernel();
   const std::size_t size_x = m_size_x;
+  std::uint32_t freed = 0;
   fillPolygon(polygon_, static_cast<int>(m_size_x), static_cast<int>(m_size_y), fill_scratch_,
-              [&miss, size_x](int cy, int cx_begin, int cx_end) {
+              [&miss, &freed, size_x](int cy, int cx_begin, int cx_end) {
                 const std::size_t row = static_cast<std::size_t>(cy) * size_x;
-                for (std::size_t idx = row + cx_begin; idx < row + cx_end; ++idx) miss.visit(idx);
+                freed += miss.span(row + cx_begin, row + cx_end);
               });
-  last_stats_.free_cells += miss.freed;
+  last_stats_.free_cells += freed;
 }
 
 DynamicGridMap::MissKernel DynamicGridMap::missKernel() {
-  return {m_map.data(),   dyn_.data(),  stamp_.data(), miss_s_.data(),
-          miss_d_.data(), scan_stamp_,  object_cell_,  &changed_,
-          0};
+  return {m_map.data(), dyn_.data(),  stamp_.data(), miss_s_.data(), miss_d_.data(),
+          scan_stamp_,  object_cell_, &changed_};
+}
+
+std::uint32_t DynamicGridMap::MissKernel::span(std::size_t begin, std::size_t end) const {
+  const MissKernel k = *this;
+  std::uint32_t freed = 0;
+  for (std::size_t i = begin; i < end; ++i) freed += k.visit(i);
+  return freed;
+}
+
+std::uint32_t DynamicGridMap::MissKernel::ray(int x0, int y0, int x1, int y1,
+                                              std::size_t size_x) const {
+  const MissKernel k = *this;
+  std::uint32_t freed = 0;
+  traceRayIndex(x0, y0, x1, y1, size_x, [k, &freed](std::size_t i) { freed += k.visit(i); });
+  return freed;
 }
 
 void DynamicGridMap::traceBeamTails(const mrpt::poses::CPose2D& sensor) {
   const std::size_t size_x = m_size_x;
-  MissKernel miss = missKernel();
+  const MissKernel miss = missKernel();
+  std::uint32_t freed = 0;
   for (std::size_t i = 0; i < beams_.size(); ++i) {
     const Beam& b = beams_[i];
     if (b.kind == kBeamNone) continue;
@@ -482,10 +498,9 @@ void DynamicGridMap::traceBeamTails(const mrpt::poses::CPose2D& sensor) {
     const bool whole = b.stop >= b.reach;
     const double ex = whole ? b.end_x : sensor.x() + b.cos * b.stop;
     const double ey = whole ? b.end_y : sensor.y() + b.sin * b.stop;
-    traceRayIndex(x2idx(sx), y2idx(sy), x2idx(ex), y2idx(ey), size_x,
-                  [&miss](std::size_t idx) { miss.visit(idx); });
+    freed += miss.ray(x2idx(sx), y2idx(sy), x2idx(ex), y2idx(ey), size_x);
   }
-  last_stats_.free_cells += miss.freed;
+  last_stats_.free_cells += freed;
 }
 
 }  // namespace dynamap

@@ -137,11 +137,10 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
     std::uint8_t mark;
     cellType object_cell;
     std::vector<std::uint32_t>* changed;
-    std::uint32_t freed;
-    /// Updates cell `i` as crossed, unless this scan already updated it. Branch-free but for
-    /// the rare change of state: along a beam, cells already updated (by the swept area, by
-    /// a neighbouring beam) and new ones alternate unpredictably.
-    inline void visit(std::size_t i) {
+    /// Updates cell `i` as crossed, unless this scan already updated it: returns 1 if it did,
+    /// else 0. Branch-free but for the rare change of state: along a beam, cells already
+    /// updated (by the swept area, by a neighbouring beam) and new ones alternate unpredictably.
+    inline std::uint32_t visit(std::size_t i) const {
       const bool fresh = stamp[i] != mark;
       stamp[i] = mark;
       const cellType s_before = s[i], d_before = d[i];
@@ -149,11 +148,17 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
       const cellType d_miss = miss_d[static_cast<std::uint8_t>(d_before)];
       s[i] = fresh ? s_miss : s_before;
       d[i] = fresh ? d_miss : d_before;
-      freed += fresh ? 1u : 0u;
       // A miss only ever lowers D's P(occ): only an object cell can change state.
       if (fresh && d_before < object_cell && d_miss >= object_cell)
         changed->push_back(static_cast<std::uint32_t>(i));
+      return fresh ? 1u : 0u;
     }
+    /// visit() for cells [begin, end) of a row, and for the cells of traceRay from (x0, y0) to
+    /// (x1, y1) in a grid `size_x` wide; both return how many cells they updated. The kernel is
+    /// copied into locals first: cells are int8, which may alias anything whose address was
+    /// taken, so fields read through a reference would be reloaded at every cell.
+    std::uint32_t span(std::size_t begin, std::size_t end) const;
+    std::uint32_t ray(int x0, int y0, int x1, int y1, std::size_t size_x) const;
   };
   MissKernel missKernel();
   void noteChange(std::size_t index, cellType before);
