@@ -31,6 +31,7 @@ RangeData makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double i
 void makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double insertion_range,
                    double horizontal_tolerance, RangeData& rd) {
   const std::size_t n = scan.getScanSize();
+  const double first_before = rd.first, step_before = rd.step, dir_before = rd.dir;
   rd.mount = scan.sensorPose;
   // The mount's z axis pointing down: the scan plane is seen from below.
   rd.upside_down = scan.sensorPose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>()(2, 2) < 0;
@@ -44,6 +45,16 @@ void makeRangeData(const mrpt::obs::CObservation2DRangeScan& scan, double insert
   rd.bad_beams = 0;
   rd.ranges.resize(n);
   rd.kinds.resize(n);
+  const bool same_beams = rd.cos_angle.size() == n && rd.first == first_before &&
+                          rd.step == step_before && rd.dir == dir_before;
+  if (!same_beams) {
+    rd.cos_angle.resize(n);
+    rd.sin_angle.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      rd.cos_angle[i] = std::cos(rd.angle(i));
+      rd.sin_angle[i] = std::sin(rd.angle(i));
+    }
+  }
   if (n == 0) return;
   // getScanRange() returns a reference into MRPT's contiguous array of ranges: read them as
   // one array instead of making an out-of-line, index-checked call per beam.

@@ -13,8 +13,8 @@ std::vector<mrpt::math::TPoint2D> hitPoints(const RangeData& rd, std::size_t str
   stride = std::max<std::size_t>(stride, 1);
   for (std::size_t i = 0; i < rd.size(); i += stride) {
     if (rd.kinds[i] != BeamKind::Hit) continue;
-    const double r = rd.ranges[i], a = rd.angle(i);
-    pts.push_back(sensor + mrpt::math::TPoint2D(r * std::cos(a), r * std::sin(a)));
+    const double r = rd.ranges[i];
+    pts.push_back(sensor + mrpt::math::TPoint2D(r * rd.cos_angle[i], r * rd.sin_angle[i]));
   }
   return pts;
 }

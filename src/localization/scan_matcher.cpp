@@ -34,8 +34,7 @@ std::vector<mrpt::math::TPoint2D> scanPoints(const RangeData& rd) {
   for (std::size_t i = 0; i < rd.size(); ++i) {
     const double r = rd.ranges[i];
     if (rd.kinds[i] != BeamKind::Hit || r <= 0.0 || r >= rd.sensor_max_range) continue;
-    const double a = rd.angle(i);
-    pts.push_back(sensor + mrpt::math::TPoint2D(r * std::cos(a), r * std::sin(a)));
+    pts.push_back(sensor + mrpt::math::TPoint2D(r * rd.cos_angle[i], r * rd.sin_angle[i]));
   }
   return pts;
 }

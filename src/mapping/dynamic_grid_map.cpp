@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "dynamap/mapping/polygon_fill.h"
 #include "dynamap/mapping/ray_cast.h"
@@ -219,6 +220,9 @@ bool DynamicGridMap::insertScan(const RangeData& rd, const mrpt::poses::CPose3D&
   if (rd.size() == 0) return false;
   last_stats_.skip_reason = "aperture not positive";
   if (!(rd.aperture > 0.0) || !std::isfinite(rd.aperture)) return false;
+  if (rd.cos_angle.size() != rd.size() || rd.sin_angle.size() != rd.size()) {
+    throw std::invalid_argument("DynamicGridMap: range data without its beam directions");
+  }
   last_stats_.skip_reason = "pose not finite";
   for (double v : {robot_pose.x(), robot_pose.y(), robot_pose.yaw()}) {
     if (!std::isfinite(v)) return false;
@@ -253,15 +257,14 @@ mrpt::poses::CPose2D DynamicGridMap::computeBeams(const RangeData& rd,
   beams_.resize(n);
   float last_valid = max_range;
   last_stats_.beams_bad = rd.bad_beams;
-  const Directions& dirs = directionsOf(rd);
   const double c = std::cos(sensor.phi()), s = std::sin(sensor.phi());
   for (std::size_t i = 0; i < n; ++i) {
     Beam& b = beams_[i];
     b.kind = kBeamNone;
     b.reach = 0;
     // The beam's direction turned by the sensor's heading.
-    b.cos = c * dirs.cos[i] - s * dirs.sin[i];
-    b.sin = s * dirs.cos[i] + c * dirs.sin[i];
+    b.cos = c * rd.cos_angle[i] - s * rd.sin_angle[i];
+    b.sin = s * rd.cos_angle[i] + c * rd.sin_angle[i];
     const float r = rd.ranges[i];
     switch (rd.kinds[i]) {
       case BeamKind::Bad:
@@ -282,22 +285,6 @@ mrpt::poses::CPose2D DynamicGridMap::computeBeams(const RangeData& rd,
     b.end_y = static_cast<float>(sensor.y() + b.sin * b.reach);
   }
   return sensor;
-}
-
-const DynamicGridMap::Directions& DynamicGridMap::directionsOf(const RangeData& rd) {
-  Directions& d = directions_;
-  if (d.n == rd.size() && d.first == rd.first && d.step == rd.step && d.dir == rd.dir) return d;
-  d.n = rd.size();
-  d.first = rd.first;
-  d.step = rd.step;
-  d.dir = rd.dir;
-  d.cos.resize(d.n);
-  d.sin.resize(d.n);
-  for (std::size_t i = 0; i < d.n; ++i) {
-    d.cos[i] = std::cos(rd.angle(i));
-    d.sin[i] = std::sin(rd.angle(i));
-  }
-  return d;
 }
 
 bool DynamicGridMap::growToFit(const mrpt::poses::CPose2D& sensor) {

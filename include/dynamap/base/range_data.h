@@ -36,6 +36,9 @@ struct RangeData {
   std::vector<float> ranges;    ///< [m] as measured
   std::vector<BeamKind> kinds;
   std::uint32_t bad_beams = 0;
+  /// cos and sin of angle(i) for every beam. makeRangeData() into a RangeData that held a scan
+  /// of the same beam geometry keeps them, so a log's scans (which share one) compute them once.
+  std::vector<double> cos_angle, sin_angle;
 
   std::size_t size() const { return ranges.size(); }
   /// Beam i's direction in the sensor's 2D frame [rad].

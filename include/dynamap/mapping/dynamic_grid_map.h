@@ -55,7 +55,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   /// Inserts a scan already worked out as range data (the pipeline's route: the same geometry
   /// the matcher and the tracker read), taken with the robot at `robot`. MRPT's
   /// insertObservation() of a CObservation2DRangeScan works the range data out and comes here.
-  /// False when the scan was skipped (lastInsertStats() says why).
+  /// False when the scan was skipped (lastInsertStats() says why). `rd` must come from
+  /// makeRangeData() (std::invalid_argument when its beam directions are missing).
   bool insertRange(const RangeData& rd, const mrpt::poses::CPose2D& robot);
   const InsertionOptions& insertion() const { return insertion_; }
 
@@ -207,15 +208,6 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   };
   static constexpr std::size_t kWedgeBeams = 8;  // beam gaps per wedge
   std::vector<Beam> beams_;
-  /// cos and sin of every beam's direction in the sensor's frame, for the beam geometry they
-  /// were worked out for: a log's scans share one, so they are computed once, not per scan.
-  struct Directions {
-    std::size_t n = 0;
-    double first = 0, step = 0, dir = 0;
-    std::vector<double> cos, sin;
-  };
-  Directions directions_;
-  const Directions& directionsOf(const RangeData& rd);
   RangeData range_;  // the scan of insertObservation(), worked out
   std::vector<std::pair<std::size_t, bool>> hits_;  // cell, S Free there before the scan
   std::vector<Wedge> wedges_;
