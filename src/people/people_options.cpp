@@ -34,6 +34,8 @@ const OptionTable<PeopleOptions>& PeopleOptions::table() {
           {"confirm_static_s", &O::confirm_static_s, Range::closed(0, 600), "s",
            "...this long when it appeared near a cell S holds occupied (at least confirm_s)"},
           {"static_clearance", &O::static_clearance, Range::closed(0, 2), "m", "...this near"},
+          {"object_max_extent", &O::object_max_extent, Range::closed(0, 10), "m",
+           "...of a body S holds that fits in a square this wide (larger ones are walls)"},
           {"moving_speed", &O::moving_speed, Range::closed(0, 10), "m/s",
            "a track slower than this is not moving"},
           {"confirm_travel", &O::confirm_travel, Range::closed(0, 100), "m",
@@ -44,6 +46,12 @@ const OptionTable<PeopleOptions>& PeopleOptions::table() {
            "a person unseen and out of view this long ends"},
           {"hold_radius", &O::hold_radius, Range::closed(0, 2), "m",
            "a beam ending this near a lost person holds them (stopped)"},
+          {"lost_s", &O::lost_s, Range::closed(0, 3600), "s",
+           "a lost person's id is given back this long to a new track near their last detection; 0 = never"},
+          {"reid_distance", &O::reid_distance, Range::closed(0, 100), "m",
+           "...this near (the nearest lost person)"},
+          {"reacquire_s", &O::reacquire_s, Range::closed(0, 600), "s",
+           "a new track near a lost person (not near an object) is them after this long, moving or not (at most confirm_s)"},
           {"empty_scans", &O::empty_scans, Range::closed(1, 1000), "",
            "a lost person's place seen empty this many scans in a row ends them"},
           {"exclusion_radius", &O::exclusion_radius, Range::closed(0, 5), "m",
@@ -62,6 +70,7 @@ void PeopleOptions::validate(const std::string& src) const {
   if (max_person_width < max_leg_width) {
     rejectValue(src, kSection, "max_person_width", "must be at least max_leg_width");
   }
+  if (reacquire_s > confirm_s) rejectValue(src, kSection, "reacquire_s", "must be at most confirm_s");
   if (confirm_static_s < confirm_s) {
     rejectValue(src, kSection, "confirm_static_s", "must be at least confirm_s");
   }

@@ -150,15 +150,47 @@ std::vector<PersonDetection> pairLegs(const std::vector<PointCluster>& clusters,
 
 namespace {
 
-bool nearStatic(const DynamicGridMap& map, double x, double y, double clearance) {
+bool staticOccupied(const DynamicGridMap& map, int cx, int cy) {
+  return map.staticOccupancy(cx, cy) > 0.5f;
+}
+
+// Whether the cells S holds occupied 8-connected to (cx, cy) all fit in a square of `extent`
+// cells: a body that could be moved (a bin, a chair), not a wall. Stops as soon as they do not,
+// so a wall costs a few dozen cells.
+bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent) {
+  std::vector<std::pair<int, int>> todo{{cx, cy}}, seen{{cx, cy}};
+  int x0 = cx, x1 = cx, y0 = cy, y1 = cy;
+  while (!todo.empty()) {
+    const auto [x, y] = todo.back();
+    todo.pop_back();
+    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    if (x1 - x0 >= extent || y1 - y0 >= extent) return false;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const std::pair<int, int> n{x + dx, y + dy};
+        if (!staticOccupied(map, n.first, n.second) ||
+            std::find(seen.begin(), seen.end(), n) != seen.end())
+          continue;
+        seen.push_back(n);
+        todo.push_back(n);
+      }
+    }
+  }
+  return true;
+}
+
+bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptions& o) {
   const double res = map.getResolution();
-  const int n = static_cast<int>(std::ceil(clearance / res));
+  const int n = static_cast<int>(std::ceil(o.static_clearance / res));
+  const int extent = static_cast<int>(std::ceil(o.object_max_extent / res));
   const int cx = map.x2idx(x), cy = map.y2idx(y);
   for (int dy = -n; dy <= n; ++dy) {
     for (int dx = -n; dx <= n; ++dx) {
-      if (std::hypot(dx, dy) * res > clearance) continue;
-      // Occupied in S, or an object D holds: something that stood here, not someone walking.
-      if (map.staticOccupancy(cx + dx, cy + dy) > 0.5f || map.isObjectCell(cx + dx, cy + dy))
+      if (std::hypot(dx, dy) * res > o.static_clearance) continue;
+      // An object D holds, or a small body in S: something that stood here and may be moving
+      // off, not someone walking. A wall (a larger body of S) is passed by people all the time.
+      if (map.isObjectCell(cx + dx, cy + dy)) return true;
+      if (staticOccupied(map, cx + dx, cy + dy) && smallStaticBlob(map, cx + dx, cy + dy, extent))
         return true;
     }
   }
@@ -171,7 +203,7 @@ std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanH
                                           const PeopleOptions& o) {
   const std::vector<HitPoint2> free = freeSpaceHits(map, hits, o.wall_guard_cells);
   std::vector<PersonDetection> out = pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
-  for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o.static_clearance);
+  for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o);
   return out;
 }
 

@@ -56,6 +56,7 @@ const char* toString(PersonState s) {
     case PersonState::Tentative: return "tentative";
     case PersonState::Confirmed: return "confirmed";
     case PersonState::Coasting: return "coasting";
+    case PersonState::Lost: return "lost";
     case PersonState::Ended: return "ended";
   }
   return "?";
@@ -94,7 +95,9 @@ PersonTracker::PersonTracker(const PeopleOptions& options) : options_(options) {
 
 void PersonTracker::predictAll(double t) {
   const double dt = have_t_ ? t - last_t_ : 0.0;
-  for (PersonTrack& tr : tracks_) tr.filter.predict(dt, options_.accel_std);
+  for (PersonTrack& tr : tracks_) {
+    if (tr.kind() != PersonState::Lost) tr.filter.predict(dt, options_.accel_std);
+  }
   have_t_ = true;
   last_t_ = t;
 }
@@ -104,6 +107,10 @@ std::vector<int> PersonTracker::associate(const std::vector<PersonDetection>& de
   Eigen::MatrixXd cost(static_cast<Eigen::Index>(tracks_.size()),
                        static_cast<Eigen::Index>(dets.size()));
   for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    if (tracks_[i].kind() == PersonState::Lost) {  // only a new track can take a lost id back
+      cost.row(static_cast<Eigen::Index>(i)).setConstant(inf);
+      continue;
+    }
     // A person lost for a while may have turned: the gate widens with the time unseen, at
     // walking pace (1 m/s), up to three times its size.
     const double unseen = std::max(0.0, last_t_ - tracks_[i].last_detected_t);
@@ -121,16 +128,54 @@ std::vector<int> PersonTracker::associate(const std::vector<PersonDetection>& de
 void PersonTracker::advanceTentative(PersonTrack& tr, double t) {
   auto& st = std::get<TentativeState>(tr.state);
   if (speedOf(tr.filter) < options_.moving_speed) {  // a pause: the clock starts again
-    st = {t, tr.filter.x(), tr.filter.y(), st.near_static};
+    st.moving_since_t = t;
+    st.from_x = tr.filter.x();
+    st.from_y = tr.filter.y();
+    return;
+  }
+  const double moving = t - st.moving_since_t;
+  // A person back in view is known sooner (never what appeared near an object: an object
+  // moving off must not take a person's id).
+  if (!st.near_static && moving >= options_.reacquire_s &&
+      reidentify(tr.filter.x(), tr.filter.y(), t) != nullptr) {
+    confirm(tr, t);
     return;
   }
   const double travel = std::hypot(tr.filter.x() - st.from_x, tr.filter.y() - st.from_y);
   const double needed = st.near_static ? options_.confirm_static_s : options_.confirm_s;
-  if (t - st.moving_since_t < needed || travel < options_.confirm_travel) return;
-  tr.id = next_id_++;
-  trails_.push_back({tr.id, {}});
+  if (moving < needed || travel < options_.confirm_travel) return;
+  confirm(tr, t);
+}
+
+PersonTrack* PersonTracker::reidentify(double x, double y, double t) {
+  PersonTrack* best = nullptr;
+  double best_d = options_.reid_distance;
+  for (PersonTrack& tr : tracks_) {
+    const auto* lost = std::get_if<LostState>(&tr.state);
+    if (lost == nullptr || t - lost->since_t > options_.lost_s) continue;
+    const double d = std::hypot(tr.detected_x - x, tr.detected_y - y);
+    if (d <= best_d) {  // ties: the earlier track (lower key)
+      if (best == nullptr || d < best_d) best = &tr;
+      best_d = d;
+    }
+  }
+  return best;
+}
+
+void PersonTracker::confirm(PersonTrack& tr, double t) {
+  PersonTrack* lost = reidentify(tr.filter.x(), tr.filter.y(), t);
+  if (lost != nullptr) {  // a person back in view: their id, their figures so far
+    tr.id = lost->id;
+    tr.first_reported_t = lost->first_reported_t;
+    tr.path_length = lost->path_length;
+    lost->id = 0;  // ends without a summary of its own
+    lost->state = EndedState{t};
+  } else {
+    tr.id = next_id_++;
+    trails_.push_back({tr.id, {}});
+    tr.first_reported_t = t;
+  }
   tr.state = ConfirmedState{};
-  tr.first_reported_t = t;
   tr.last_x = tr.filter.x();
   tr.last_y = tr.filter.y();
 }
@@ -140,6 +185,8 @@ void PersonTracker::correct(PersonTrack& tr, const PersonDetection& d, double t)
   const double std = d.legs == 1 ? 2 * options_.measurement_std : options_.measurement_std;
   tr.filter.update(d.x, d.y, std);
   tr.last_detected_t = t;
+  tr.detected_x = tr.filter.x();
+  tr.detected_y = tr.filter.y();
   if (tr.kind() == PersonState::Tentative) {
     advanceTentative(tr, t);
   } else {
@@ -148,8 +195,13 @@ void PersonTracker::correct(PersonTrack& tr, const PersonDetection& d, double t)
 }
 
 void PersonTracker::miss(PersonTrack& tr, const ScanHits& hits, double t) {
+  if (tr.kind() == PersonState::Ended) return;  // its id was given back to a new track
   if (tr.kind() == PersonState::Tentative) {
     if (t - tr.last_detected_t > options_.tentative_miss_s) endTrack(tr, t);
+    return;
+  }
+  if (const auto* lost = std::get_if<LostState>(&tr.state)) {
+    if (t - lost->since_t > options_.lost_s) endTrack(tr, t);
     return;
   }
   if (tr.kind() == PersonState::Confirmed) tr.state = CoastingState{tr.last_detected_t, 0, false};
@@ -161,19 +213,29 @@ void PersonTracker::miss(PersonTrack& tr, const ScanHits& hits, double t) {
       return;
     case DiscView::Empty:
       st.held = false;
-      if (++st.empty_scans >= options_.empty_scans) endTrack(tr, t);
+      if (++st.empty_scans >= options_.empty_scans) loseTrack(tr, t);
       return;
     case DiscView::Unseen:
       st.held = false;
       st.empty_scans = 0;
-      if (t - st.since_t > options_.coast_s) endTrack(tr, t);
+      if (t - st.since_t > options_.coast_s) loseTrack(tr, t);
       return;
   }
 }
 
 void PersonTracker::endTrack(PersonTrack& tr, double t) {
+  const auto* tent = std::get_if<TentativeState>(&tr.state);
+  if (tent != nullptr && tent->near_static) static_ends_.push_back({tr.filter.x(), tr.filter.y(), t});
   if (tr.id != 0) ended_.push_back({tr.id, tr.first_reported_t, tr.last_reported_t, tr.path_length});
   tr.state = EndedState{t};
+}
+
+void PersonTracker::loseTrack(PersonTrack& tr, double t) {
+  if (options_.lost_s > 0) {
+    tr.state = LostState{t};
+  } else {
+    endTrack(tr, t);
+  }
 }
 
 void PersonTracker::record(PersonTrack& tr, double t) {
@@ -215,18 +277,43 @@ void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanH
   tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
                                [](const PersonTrack& tr) { return tr.kind() == PersonState::Ended; }),
                 tracks_.end());
+  // Where objects' tracks ended long ago no longer matters.
+  static_ends_.erase(std::remove_if(static_ends_.begin(), static_ends_.end(),
+                                    [&](const StaticEnd& e) {
+                                      return t - e.t > options_.confirm_static_s;
+                                    }),
+                     static_ends_.end());
   for (std::size_t j = 0; j < dets.size(); ++j) {
-    if (used[j]) continue;
-    PersonTrack tr{next_key_++, 0,
-                   ConstantVelocityFilter(dets[j].x, dets[j].y, options_.measurement_std,
-                                          kInitialVelocityStd),
-                   TentativeState{t, dets[j].x, dets[j].y, dets[j].near_static}};
-    tr.last_detected_t = t;
-    tracks_.push_back(tr);
+    if (!used[j]) startTrack(dets[j], t);
   }
   for (PersonTrack& tr : tracks_) {
     if (isReported(tr)) record(tr, t);
   }
+}
+
+bool PersonTracker::nearStaticTrack(double x, double y, double t) const {
+  const double reach = 2 * options_.gate;
+  for (const StaticEnd& e : static_ends_) {
+    if (std::hypot(e.x - x, e.y - y) <= reach && t - e.t <= options_.confirm_static_s) return true;
+  }
+  for (const PersonTrack& tr : tracks_) {
+    const auto* tent = std::get_if<TentativeState>(&tr.state);
+    if (tent != nullptr && tent->near_static &&
+        std::hypot(tr.filter.x() - x, tr.filter.y() - y) <= reach)
+      return true;
+  }
+  return false;
+}
+
+void PersonTracker::startTrack(const PersonDetection& d, double t) {
+  const bool near_static = d.near_static || nearStaticTrack(d.x, d.y, t);
+  PersonTrack tr{next_key_++, 0,
+                 ConstantVelocityFilter(d.x, d.y, options_.measurement_std, kInitialVelocityStd),
+                 TentativeState{t, d.x, d.y, near_static, t}};
+  tr.last_detected_t = t;
+  tr.detected_x = d.x;
+  tr.detected_y = d.y;
+  tracks_.push_back(tr);
 }
 
 std::vector<PersonRow> PersonTracker::reported() const {
@@ -244,7 +331,7 @@ std::vector<PersonRow> PersonTracker::reported() const {
 std::vector<PersonSummary> PersonTracker::summaries() const {
   std::vector<PersonSummary> out = ended_;
   for (const PersonTrack& tr : tracks_) {
-    if (tr.id != 0) out.push_back({tr.id, tr.first_reported_t, tr.last_reported_t, tr.path_length});
+    if (tr.id != 0 && tr.kind() != PersonState::Ended) out.push_back({tr.id, tr.first_reported_t, tr.last_reported_t, tr.path_length});
   }
   std::sort(out.begin(), out.end(),
             [](const PersonSummary& a, const PersonSummary& b) { return a.id < b.id; });

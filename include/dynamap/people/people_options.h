@@ -31,11 +31,19 @@ struct PeopleOptions {
   /// on; [confirm_s, 600]
   double confirm_static_s = 6.0;
   double static_clearance = 0.35;  ///< [m] see confirm_static_s; [0, 2]
+  /// [m] a body S holds occupied counts for confirm_static_s when it fits in a square this
+  /// wide (something that can be moved); larger ones are walls, which people walk along; [0, 10]
+  double object_max_extent = 1.2;
   double moving_speed = 0.25;     ///< [m/s] slower than this a track is not moving; [0, 10]
   double confirm_travel = 0.5;    ///< [m] ...and has gone this far from where it appeared; [0, 100]
   double tentative_miss_s = 0.6;  ///< [s] a tentative track unseen this long ends; (0, 60]
   double coast_s = 4.0;           ///< [s] a person unseen (and out of view) this long ends; (0, 600]
   double hold_radius = 0.15;      ///< [m] a beam ending this near a lost person holds them; [0, 2]
+  double lost_s = 60.0;           ///< [s] a lost person's id can be given back this long; 0 = never; [0, 3600]
+  double reid_distance = 50.0;    ///< [m] ...to a new track confirmed this near their last detection; [0, 100]
+  /// [s] a new track within reid_distance of a lost person (and not near an object) is that
+  /// person once it has been seen this long, moving or not; [0, confirm_s]
+  double reacquire_s = 0.2;
   int empty_scans = 3;            ///< a lost person's place seen empty this many scans in a row ends them; [1, 1000]
   /// [m] no object is confirmed this near a person; 0 = off (the default: with confirm_s = 1 a
   /// gliding cylinder is confirmed as a person for a while, and keeping objects out there cost

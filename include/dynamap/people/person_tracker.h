@@ -48,7 +48,8 @@ class ConstantVelocityFilter {
 struct TentativeState {
   double moving_since_t = 0;  ///< it has been moving since then, without a pause
   double from_x = 0, from_y = 0;  ///< where it was then
-  bool near_static = false;       ///< appeared near S's occupied cells: confirm_static_s
+  bool near_static = false;       ///< appeared near an object (or took over from one): confirm_static_s
+  double born_t = 0;              ///< first detected
 };
 struct ConfirmedState {};
 struct CoastingState {
@@ -56,25 +57,35 @@ struct CoastingState {
   int empty_scans = 0;  ///< consecutive scans that saw its place empty
   bool held = false;    ///< this scan saw its place occupied
 };
+/// A person no longer followed (out of view past coast_s, or their place seen empty), kept
+/// lost_s so that a new track starting within reid_distance of where they were last detected
+/// takes their id back instead of a new one: people who leave the sensor's view and come back
+/// keep their identity.
+struct LostState {
+  double since_t = 0;
+};
 struct EndedState {
   double t = 0;
 };
-enum class PersonState { Tentative, Confirmed, Coasting, Ended };
+enum class PersonState { Tentative, Confirmed, Coasting, Lost, Ended };
 const char* toString(PersonState s);
 
 struct PersonTrack {
   int key = 0;  ///< internal, in order of creation
   int id = 0;   ///< person id once confirmed (1, 2, ...), 0 while tentative
   ConstantVelocityFilter filter;
-  std::variant<TentativeState, ConfirmedState, CoastingState, EndedState> state;
+  std::variant<TentativeState, ConfirmedState, CoastingState, LostState, EndedState> state;
   double last_detected_t = 0;
+  double detected_x = 0, detected_y = 0;  ///< the filter's position at its last detection
   double first_reported_t = 0, last_reported_t = 0;
   double path_length = 0;  ///< [m] along its reported positions
   double last_x = 0, last_y = 0;
 
   PersonState kind() const { return static_cast<PersonState>(state.index()); }
-  /// Confirmed, or coasting after having been confirmed: a person.
-  bool isPerson() const { return id != 0 && kind() != PersonState::Ended; }
+  /// Confirmed, or coasting after having been confirmed: a person where the tracker follows them.
+  bool isPerson() const {
+    return id != 0 && kind() != PersonState::Ended && kind() != PersonState::Lost;
+  }
 };
 
 /// One row of people.csv.
@@ -105,7 +116,7 @@ class PersonTracker {
 
   /// The people to report for the last scan: confirmed tracks and held (stopped) people, by id.
   std::vector<PersonRow> reported() const;
-  /// Every track alive (not ended), tentative ones included.
+  /// Every track alive (not ended), tentative and lost ones included.
   const std::vector<PersonTrack>& tracks() const { return tracks_; }
   /// Every person ever confirmed, by id (ended ones included).
   std::vector<PersonSummary> summaries() const;
@@ -125,10 +136,23 @@ class PersonTracker {
   void miss(PersonTrack& tr, const ScanHits& hits, double t);
   void advanceTentative(PersonTrack& tr, double t);
   void endTrack(PersonTrack& tr, double t);
+  void loseTrack(PersonTrack& tr, double t);
+  /// The lost person a track confirmed now at (x, y) is (nearest last detection within reach),
+  /// or nullptr: a new person.
+  PersonTrack* reidentify(double x, double y, double t);
+  void confirm(PersonTrack& tr, double t);
   void record(PersonTrack& tr, double t);
 
   PeopleOptions options_;
   std::vector<PersonTrack> tracks_;  // alive, by key
+  /// Near a track that went near_static, a new track is near_static too: a gliding object
+  /// whose track broke off must not restart as a person. (x, y, t) of where such tracks ended.
+  bool nearStaticTrack(double x, double y, double t) const;
+  void startTrack(const PersonDetection& d, double t);
+  struct StaticEnd {
+    double x, y, t;
+  };
+  std::vector<StaticEnd> static_ends_;
   std::vector<PersonSummary> ended_;
   std::vector<PersonTrail> trails_;  // by id: trails_[id - 1]
   std::size_t trail_points_ = 0;
