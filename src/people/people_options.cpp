@@ -50,6 +50,8 @@ const OptionTable<PeopleOptions>& PeopleOptions::table() {
            "a lost person's id is given back this long to a new track near their last detection; 0 = never"},
           {"reid_distance", &O::reid_distance, Range::closed(0, 100), "m",
            "...this near (the nearest lost person)"},
+          {"max_speed", &O::max_speed, Range::openClosed(0, 20), "m/s",
+           "...and within gate + this speed times the time since (nobody walks faster)"},
           {"reacquire_s", &O::reacquire_s, Range::closed(0, 600), "s",
            "a new track near a lost person (not near an object) is them after this long, moving or not (at most confirm_s)"},
           {"empty_scans", &O::empty_scans, Range::closed(1, 1000), "",

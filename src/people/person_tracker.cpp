@@ -151,11 +151,17 @@ PersonTrack* PersonTracker::reidentify(double x, double y, double t) {
   PersonTrack* best = nullptr;
   double best_d = options_.reid_distance;
   for (PersonTrack& tr : tracks_) {
+    // Lost, or coasting unseen: a prediction can run on through a wall while the person turned.
     const auto* lost = std::get_if<LostState>(&tr.state);
-    if (lost == nullptr || t - lost->since_t > options_.lost_s) continue;
+    const auto* coast = std::get_if<CoastingState>(&tr.state);
+    if (lost == nullptr && (coast == nullptr || coast->held)) continue;
+    if (lost != nullptr && t - lost->since_t > options_.lost_s) continue;
+    // Measured from their last detection, not a prediction: people turn where they cannot be
+    // seen. Nobody walks faster than max_speed.
     const double d = std::hypot(tr.detected_x - x, tr.detected_y - y);
-    if (d <= best_d) {  // ties: the earlier track (lower key)
-      if (best == nullptr || d < best_d) best = &tr;
+    if (d > options_.gate + options_.max_speed * (t - tr.last_detected_t)) continue;
+    if (d <= best_d && (best == nullptr || d < best_d)) {  // ties: the earlier track
+      best = &tr;
       best_d = d;
     }
   }

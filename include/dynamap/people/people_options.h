@@ -41,6 +41,7 @@ struct PeopleOptions {
   double hold_radius = 0.15;      ///< [m] a beam ending this near a lost person holds them; [0, 2]
   double lost_s = 60.0;           ///< [s] a lost person's id can be given back this long; 0 = never; [0, 3600]
   double reid_distance = 50.0;    ///< [m] ...to a new track confirmed this near their last detection; [0, 100]
+  double max_speed = 2.0;         ///< [m/s] ...and within gate + max_speed x time since; (0, 20]
   /// [s] a new track within reid_distance of a lost person (and not near an object) is that
   /// person once it has been seen this long, moving or not; [0, confirm_s]
   double reacquire_s = 0.2;
