@@ -63,6 +63,25 @@ CImage renderStatic(const mrpt::maps::COccupancyGridMap2D& map) {
   return img;
 }
 
+CImage renderStaticOn(const mrpt::maps::COccupancyGridMap2D& grid,
+                      const mrpt::maps::COccupancyGridMap2D& geometry) {
+  const unsigned sx = geometry.getSizeX(), sy = geometry.getSizeY();
+  const int gx = static_cast<int>(grid.getSizeX()), gy = static_cast<int>(grid.getSizeY());
+  CImage img(sx, sy, mrpt::img::CH_GRAY);
+  for (unsigned cy = 0; cy < sy; ++cy) {
+    auto* row = img.ptrLine<std::uint8_t>(sy - 1 - cy);
+    const int ty = grid.y2idx(geometry.idx2y(cy));
+    for (unsigned cx = 0; cx < sx; ++cx) {
+      const int tx = grid.x2idx(geometry.idx2x(cx));
+      // Outside `grid`: never observed there, the prior's grey.
+      row[cx] = tx < 0 || ty < 0 || tx >= gx || ty >= gy
+                    ? DynamicGridMap::l2p_255(0)
+                    : grey(grid, static_cast<std::size_t>(tx) + static_cast<std::size_t>(ty) * grid.getSizeX());
+    }
+  }
+  return img;
+}
+
 CImage renderDynamic(const DynamicGridMap& map) {
   const auto& d = map.dynamicRaw();
   return paintCells(map, wholeGrid(map), [&](std::size_t i) {
@@ -114,6 +133,197 @@ Pixel toPixel(const DynamicGridMap& map, const View& view, double x, double y) {
           static_cast<int>(std::floor((view.cy1 - fy) * view.scale))};
 }
 
+namespace {
+
+// A box or a label on a picture, in pixels (inclusive).
+struct Rect {
+  int x0, y0, x1, y1;
+  bool overlaps(const Rect& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
+};
+
+// What is drawn on a picture that no label may cover: object boxes and the labels placed so far.
+struct LabelBoard {
+  std::vector<Rect> taken;
+  // A place for a label of lw x lh pixels beside `anchor` (a box or a dot) inside a w x h
+  // picture that covers nothing taken: above, below, right, left, then the same further out.
+  // False when there is none: the label is left out rather than drawn over another.
+  bool place(const Rect& anchor, int lw, int lh, int w, int h, Rect& out) const {
+    constexpr int kRings = 6;
+    for (int ring = 0; ring < kRings; ++ring) {
+      const int gy = ring * (lh + 2), gx = ring * (lw / 2 + 2);
+      const int cx = (anchor.x0 + anchor.x1) / 2 - lw / 2;
+      const int cy = (anchor.y0 + anchor.y1) / 2 - lh / 2;
+      for (const auto& [x, y] : {std::pair<int, int>{anchor.x0, anchor.y0 - lh - 2 - gy},
+                                 {anchor.x0, anchor.y1 + 2 + gy},
+                                 {anchor.x1 + 3 + gx, cy},
+                                 {anchor.x0 - lw - 3 - gx, cy},
+                                 {cx, anchor.y0 - lh - 2 - gy},
+                                 {cx, anchor.y1 + 2 + gy}}) {
+        const Rect r{x, y, x + lw, y + lh};
+        if (r.x0 < 0 || r.y0 < 0 || r.x1 >= w || r.y1 >= h) continue;
+        bool clear = true;
+        for (const Rect& t : taken) clear = clear && !r.overlaps(t);
+        if (clear) {
+          out = r;
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+};
+
+void selectFont(CImage& img, int& char_w, int& char_h) {
+  // Big pictures get the bigger font; 6x13 keeps labels readable on small maps.
+  const bool big = img.getWidth() >= 1000;
+  img.selectTextFont(big ? "9x15B" : "6x13B");
+  char_w = big ? 9 : 6;
+  char_h = big ? 15 : 13;
+}
+
+// The last point of a trail that is not a break, or nullptr.
+const std::pair<double, double>* trailEnd(const PersonTrail& p) {
+  for (auto it = p.points.rbegin(); it != p.points.rend(); ++it) {
+    if (!std::isnan(it->first)) return &*it;
+  }
+  return nullptr;
+}
+
+// Magenta: apart from the red of D, the green of object boxes and the blue of the robot.
+const mrpt::img::TColor kTrail(200, 0, 200);
+
+void drawTrailLines(CImage& img, const DynamicGridMap& map, const View& view,
+                    const std::vector<PersonTrail>& people) {
+  for (const PersonTrail& p : people) {
+    for (std::size_t k = 1; k < p.points.size(); ++k) {
+      // A NaN point breaks the trail: the person was out of sight in between.
+      if (std::isnan(p.points[k - 1].first) || std::isnan(p.points[k].first)) continue;
+      const Pixel a = toPixel(map, view, p.points[k - 1].first, p.points[k - 1].second);
+      const Pixel b = toPixel(map, view, p.points[k].first, p.points[k].second);
+      img.line(a.x, a.y, b.x, b.y, kTrail, 1);
+    }
+  }
+}
+
+void drawTrailLabels(CImage& img, const DynamicGridMap& map, const View& view,
+                     const std::vector<PersonTrail>& people, LabelBoard& board) {
+  const mrpt::img::TColor trail = kTrail, text(255, 255, 255);
+  int char_w = 0, char_h = 0;
+  selectFont(img, char_w, char_h);
+  const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
+  for (const PersonTrail& p : people) {  // one label per person, at the trail's end
+    const auto* last = trailEnd(p);
+    if (last == nullptr) continue;
+    const Pixel end = toPixel(map, view, last->first, last->second);
+    img.filledRectangle(end.x - 2, end.y - 2, end.x + 2, end.y + 2, trail);
+    const std::string label = "P" + std::to_string(p.id);
+    const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
+    Rect at{};
+    if (!board.place({end.x - 2, end.y - 2, end.x + 2, end.y + 2}, lw, lh, w, h, at)) continue;
+    board.taken.push_back(at);
+    img.filledRectangle(at.x0, at.y0, at.x1, at.y1, trail);
+    img.textOut(at.x0 + 2, at.y0 + 1, label, text);
+  }
+}
+
+void drawObjectBoxes(CImage& img, const DynamicGridMap& map, const View& view,
+                     const std::vector<TrackedObject>& objects, LabelBoard& board) {
+  const mrpt::img::TColor box(0, 150, 0), text(0, 0, 0), label_bg(255, 240, 120);
+  int char_w = 0, char_h = 0;
+  selectFont(img, char_w, char_h);
+  const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
+  std::vector<std::pair<Rect, const TrackedObject*>> shown;
+  for (const TrackedObject& o : objects) {  // boxes first: no label may cover one
+    if (o.state != ObjectState::Present) continue;
+    const Pixel p0 = toPixel(map, view, o.shape.x_min, o.shape.y_max);
+    const Pixel p1 = toPixel(map, view, o.shape.x_max, o.shape.y_min);
+    // At least a few pixels around the object, so that small ones stay visible.
+    const int pad = std::max(2, view.scale / 2);
+    const Rect b{p0.x - pad, p0.y - pad, p1.x + pad, p1.y + pad};
+    img.rectangle(b.x0, b.y0, b.x1, b.y1, box, 2);
+    board.taken.push_back(b);
+    shown.emplace_back(b, &o);
+  }
+  for (const auto& [b, o] : shown) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%d: %.2f m", o->id, o->shape.size);
+    const std::string label = buf;
+    const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
+    Rect at{};
+    if (!board.place(b, lw, lh, w, h, at)) continue;
+    board.taken.push_back(at);
+    // A label away from its box points at it.
+    if (!(at.y1 + 3 >= b.y0 && at.y0 <= b.y1 + 3 && at.x1 + 4 >= b.x0 && at.x0 <= b.x1 + 4)) {
+      img.line((at.x0 + at.x1) / 2, (at.y0 + at.y1) / 2, (b.x0 + b.x1) / 2, (b.y0 + b.y1) / 2, box, 1);
+    }
+    img.filledRectangle(at.x0, at.y0, at.x1, at.y1, label_bg);
+    img.rectangle(at.x0, at.y0, at.x1, at.y1, box, 1);
+    img.textOut(at.x0 + 2, at.y0 + 1, label, text);
+  }
+}
+
+
+// 1, 2 or 5 times a power of ten metres, the longest such that fits in `max_px` pixels.
+double scaleBarMetres(double metres_per_px, int max_px) {
+  double best = 0;
+  for (double decade = 0.01; decade <= 1e5; decade *= 10) {
+    for (const double f : {1.0, 2.0, 5.0}) {
+      if (f * decade / metres_per_px <= max_px) best = f * decade;
+    }
+  }
+  return best;
+}
+
+// The picture with a strip below it: a scale bar and what each colour means.
+CImage withLegend(const CImage& map_img, double metres_per_px, bool people, bool objects) {
+  int char_w = 0, char_h = 0;
+  CImage probe(map_img.getWidth(), 1, mrpt::img::CH_RGB);
+  selectFont(probe, char_w, char_h);
+  const int w = static_cast<int>(map_img.getWidth()), strip = 2 * char_h + 14;
+  const int h = static_cast<int>(map_img.getHeight());
+  CImage img(w, h + strip + (h + strip) % 2, mrpt::img::CH_RGB);  // even: video frames
+  img.filledRectangle(0, 0, w - 1, static_cast<int>(img.getHeight()) - 1, mrpt::img::TColor(255, 255, 255));
+  img.drawImage(0, 0, map_img);
+  selectFont(img, char_w, char_h);
+  const mrpt::img::TColor black(0, 0, 0);
+  const int y0 = h + 4, y1 = y0 + char_h + 6;
+  // Scale bar: at most a third of the width.
+  const double metres = scaleBarMetres(metres_per_px, std::max(10, w / 3));
+  const int bar = static_cast<int>(std::lround(metres / metres_per_px));
+  img.filledRectangle(6, y0 + char_h / 2, 6 + bar, y0 + char_h / 2 + 3, black);
+  img.line(6, y0, 6, y0 + char_h, black, 1);
+  img.line(6 + bar, y0, 6 + bar, y0 + char_h, black, 1);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, metres >= 1 ? "%.0f m" : "%.2f m", metres);
+  img.textOut(12 + bar, y0, buf, black);
+  // Legend, on the second line.
+  int x = 6;
+  auto item = [&](const std::string& what, auto draw) {
+    draw(x, y1);
+    img.textOut(x + 22, y1, what, black);
+    x += 22 + static_cast<int>(what.size()) * char_w + 14;
+  };
+  item("robot path", [&](int x0, int y) {
+    img.line(x0, y + char_h / 2, x0 + 16, y + char_h / 2, mrpt::img::TColor(40, 90, 255), 2);
+  });
+  item("object cells (D)", [&](int x0, int y) {
+    img.filledRectangle(x0 + 4, y + 2, x0 + 12, y + char_h - 2, mrpt::img::TColor(230, 0, 0));
+  });
+  if (objects) {
+    item("object: id, size", [&](int x0, int y) {
+      img.rectangle(x0 + 2, y + 1, x0 + 14, y + char_h - 1, mrpt::img::TColor(0, 150, 0), 2);
+    });
+  }
+  if (people) {
+    item("person trail, P<id> at its end", [&](int x0, int y) {
+      img.line(x0, y + char_h / 2, x0 + 16, y + char_h / 2, kTrail, 2);
+    });
+  }
+  return img;
+}
+
+}  // namespace
+
 CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
                      const std::vector<TrackedObject>* objects,
                      const std::vector<PersonTrail>* people) {
@@ -129,131 +339,25 @@ CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& pa
     const Pixel b = toPixel(map, view, path[k].x, path[k].y);
     img.line(a.x, a.y, b.x, b.y, blue, 1);
   }
-  if (people) drawPeople(img, map, view, *people);
-  if (objects) drawObjects(img, map, view, *objects);
-  return img;
+  // Trails under the boxes; no label covers a box or another label.
+  LabelBoard board;
+  if (people) drawTrailLines(img, map, view, *people);
+  if (objects) drawObjectBoxes(img, map, view, *objects, board);
+  if (people) drawTrailLabels(img, map, view, *people, board);
+  return withLegend(img, map.getResolution() / view.scale, people != nullptr, objects != nullptr);
 }
-
-namespace {
-
-// A box or a label on a picture, in pixels (inclusive).
-struct Rect {
-  int x0, y0, x1, y1;
-  bool overlaps(const Rect& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
-};
-
-// Beside the end point: right, left, above, below, then the same one and two label sizes
-// further out; the first place that covers no label of `labels` (else the first place).
-std::array<int, 4> placeLabel(Pixel end, int lw, int lh, int w, int h,
-                              const std::vector<std::array<int, 4>>& labels) {
-  auto clamped = [&](int x, int y) {
-    return std::array<int, 4>{std::clamp(x, 0, std::max(0, w - lw - 1)),
-                              std::clamp(y, 0, std::max(0, h - lh - 1)), 0, 0};
-  };
-  for (int ring = 0; ring < 3; ++ring) {
-    const int dx = 4 + ring * lw, dy = lh / 2 + ring * (lh + 1);
-    for (const auto& c : {clamped(end.x + dx, end.y - lh / 2),
-                          clamped(end.x - dx - lw, end.y - lh / 2),
-                          clamped(end.x - lw / 2, end.y - dy - lh),
-                          clamped(end.x - lw / 2, end.y + dy)}) {
-      bool clear = true;
-      for (const auto& l : labels) {
-        clear = clear && !(c[0] <= l[2] && l[0] <= c[0] + lw && c[1] <= l[3] && l[1] <= c[1] + lh);
-      }
-      if (clear) return c;
-    }
-  }
-  return clamped(end.x + 4, end.y - lh / 2);
-}
-
-}  // namespace
 
 void drawPeople(CImage& img, const DynamicGridMap& map, const View& view,
                 const std::vector<PersonTrail>& people) {
-  // Magenta: apart from the red of D, the green of object boxes and the blue of the robot.
-  const mrpt::img::TColor trail(200, 0, 200), text(255, 255, 255);
-  const bool big = img.getWidth() >= 1000;
-  img.selectTextFont(big ? "9x15B" : "6x13B");
-  const int char_w = big ? 9 : 6, char_h = big ? 15 : 13;
-  const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
-  std::vector<std::array<int, 4>> labels;  // x0 y0 x1 y1
-  for (const PersonTrail& p : people) {
-    if (p.points.empty()) continue;
-    for (std::size_t k = 1; k < p.points.size(); ++k) {
-      const Pixel a = toPixel(map, view, p.points[k - 1].first, p.points[k - 1].second);
-      const Pixel b = toPixel(map, view, p.points[k].first, p.points[k].second);
-      img.line(a.x, a.y, b.x, b.y, trail, 1);
-    }
-    const Pixel end = toPixel(map, view, p.points.back().first, p.points.back().second);
-    img.filledRectangle(end.x - 2, end.y - 2, end.x + 2, end.y + 2, trail);
-    const std::string label = "P" + std::to_string(p.id);
-    const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
-    const auto at = placeLabel(end, lw, lh, w, h, labels);
-    const int x = at[0], y = at[1];
-    labels.push_back({x, y, x + lw, y + lh});
-    img.filledRectangle(x, y, x + lw, y + lh, trail);
-    img.textOut(x + 2, y + 1, label, text);
-  }
+  LabelBoard board;
+  drawTrailLines(img, map, view, people);
+  drawTrailLabels(img, map, view, people, board);
 }
 
 void drawObjects(CImage& img, const DynamicGridMap& map, const View& view,
                  const std::vector<TrackedObject>& objects) {
-  const int scale = view.scale;
-  const mrpt::img::TColor box(0, 150, 0), text(0, 0, 0), label_bg(255, 240, 120);
-  // Big pictures get the bigger font; 6x13 keeps labels readable on small maps.
-  const bool big = img.getWidth() >= 1000;
-  img.selectTextFont(big ? "9x15B" : "6x13B");
-  const int char_w = big ? 9 : 6, char_h = big ? 15 : 13;
-  const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
-  // Boxes first, then each label beside its box where it covers no other box and no label:
-  // above, below, then the same on the right edge, then further up.
-  std::vector<Rect> boxes;
-  std::vector<const TrackedObject*> shown;
-  for (const TrackedObject& o : objects) {
-    if (o.state != ObjectState::Present) continue;
-    const ShapeEstimate& s = o.shape;
-    const Pixel p0 = toPixel(map, view, s.x_min, s.y_max);
-    const Pixel p1 = toPixel(map, view, s.x_max, s.y_min);
-    // At least a few pixels around the object, so that small ones stay visible.
-    const int pad = std::max(2, scale / 2);
-    boxes.push_back({p0.x - pad, p0.y - pad, p1.x + pad, p1.y + pad});
-    shown.push_back(&o);
-    img.rectangle(boxes.back().x0, boxes.back().y0, boxes.back().x1, boxes.back().y1, box, 2);
-  }
-  std::vector<Rect> labels;
-  for (std::size_t k = 0; k < shown.size(); ++k) {
-    const Rect& b = boxes[k];
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "%d: %.2f m", shown[k]->id, shown[k]->shape.size);
-    const std::string label = buf;
-    const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
-    auto place = [&](int x, int y) {
-      x = std::clamp(x, 0, std::max(0, w - lw - 1));
-      y = std::clamp(y, 0, std::max(0, h - lh - 1));
-      return Rect{x, y, x + lw, y + lh};
-    };
-    std::vector<Rect> tries;
-    for (const int x : {b.x0, b.x1 - lw}) {
-      tries.push_back(place(x, b.y0 - lh - 1));  // above
-      tries.push_back(place(x, b.y1 + 2));       // below
-    }
-    for (int up = 2; up <= 4; ++up) tries.push_back(place(b.x0, b.y0 - up * (lh + 1)));
-    Rect at = tries.front();
-    for (const Rect& r : tries) {
-      bool clear = true;
-      for (const Rect& l : labels) clear = clear && !r.overlaps(l);
-      for (std::size_t j = 0; j < boxes.size(); ++j)
-        clear = clear && (j == k || !r.overlaps(boxes[j]));
-      if (clear) {
-        at = r;
-        break;
-      }
-    }
-    labels.push_back(at);
-    img.filledRectangle(at.x0, at.y0, at.x1, at.y1, label_bg);
-    img.rectangle(at.x0, at.y0, at.x1, at.y1, box, 1);
-    img.textOut(at.x0 + 2, at.y0 + 1, label, text);
-  }
+  LabelBoard board;
+  drawObjectBoxes(img, map, view, objects, board);
 }
 
 }  // namespace dynamap

@@ -196,7 +196,7 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
   writeFileAtomically(dir, "events.csv",
                       [&](std::ostream& o) { writeEventsCsv(o, mapper.tracker()); });
   if (info.baseline)
-    saveImageAtomically(renderStatic(info.baseline->grid()), dir, "mrpt_plain.png");
+    saveImageAtomically(renderStaticOn(info.baseline->grid(), m), dir, "mrpt_plain.png");
   if (info.slam) {
     const std::string tmp = tempName(dir, "graph.g2o");
     info.slam->slam->graph().saveG2o(tmp);

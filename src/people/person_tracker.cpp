@@ -172,6 +172,12 @@ void PersonTracker::confirm(PersonTrack& tr, double t) {
   PersonTrack* lost = reidentify(tr.filter.x(), tr.filter.y(), t);
   if (lost != nullptr) {  // a person back in view: their id, their figures so far
     tr.id = lost->id;
+    auto& pts = trails_[static_cast<std::size_t>(tr.id - 1)].points;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    if (!pts.empty() && trail_points_ < kMaxTrailPoints) {  // no line across where they were unseen
+      pts.emplace_back(nan, nan);
+      ++trail_points_;
+    }
     tr.first_reported_t = lost->first_reported_t;
     tr.path_length = lost->path_length;
     lost->id = 0;  // ends without a summary of its own
@@ -250,7 +256,7 @@ void PersonTracker::record(PersonTrack& tr, double t) {
   tr.last_y = tr.filter.y();
   tr.last_reported_t = t;
   auto& pts = trails_[static_cast<std::size_t>(tr.id - 1)].points;
-  const bool far = pts.empty() || std::hypot(tr.filter.x() - pts.back().first,
+  const bool far = pts.empty() || std::isnan(pts.back().first) || std::hypot(tr.filter.x() - pts.back().first,
                                              tr.filter.y() - pts.back().second) >= kTrailStep;
   if (far && trail_points_ < kMaxTrailPoints) {
     pts.emplace_back(tr.filter.x(), tr.filter.y());

@@ -35,6 +35,12 @@ struct View {
 /// the grid, at the scale overlayScale gives its width; the whole grid if nothing is observed.
 View observedView(const DynamicGridMap& map, int margin = 20);
 
+/// `grid` in grey levels like renderStatic, on `geometry`'s cells (its size, origin and
+/// resolution; the prior's grey where `grid` has no cell): pictures of two grids built from the
+/// same scans that lie exactly over each other.
+mrpt::img::CImage renderStaticOn(const mrpt::maps::COccupancyGridMap2D& grid,
+                                 const mrpt::maps::COccupancyGridMap2D& geometry);
+
 /// S in grey levels, D cells above object_threshold in red, the robot's path as a thin blue line,
 /// and, given `objects`, each present object's box and circle with a label "<id>: <size> m".
 /// Shows the observed part of the grid (observedView), not the unknown margins around it.
