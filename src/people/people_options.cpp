@@ -53,7 +53,9 @@ const OptionTable<PeopleOptions>& PeopleOptions::table() {
           {"max_speed", &O::max_speed, Range::openClosed(0, 20), "m/s",
            "...and within gate + this speed times the time since (nobody walks faster)"},
           {"reacquire_s", &O::reacquire_s, Range::closed(0, 600), "s",
-           "a new track near a lost person (not near an object) is them after this long, moving or not (at most confirm_s)"},
+           "a new track near a lost person (not near an object) is them after moving this long (at most confirm_s)"},
+          {"reacquire_travel", &O::reacquire_travel, Range::closed(0, 100), "m",
+           "...and gone this far (at most confirm_travel)"},
           {"empty_scans", &O::empty_scans, Range::closed(1, 1000), "",
            "a lost person's place seen empty this many scans in a row ends them"},
           {"exclusion_radius", &O::exclusion_radius, Range::closed(0, 5), "m",
@@ -73,6 +75,9 @@ void PeopleOptions::validate(const std::string& src) const {
     rejectValue(src, kSection, "max_person_width", "must be at least max_leg_width");
   }
   if (reacquire_s > confirm_s) rejectValue(src, kSection, "reacquire_s", "must be at most confirm_s");
+  if (reacquire_travel > confirm_travel) {
+    rejectValue(src, kSection, "reacquire_travel", "must be at most confirm_travel");
+  }
   if (confirm_static_s < confirm_s) {
     rejectValue(src, kSection, "confirm_static_s", "must be at least confirm_s");
   }

@@ -134,14 +134,14 @@ void PersonTracker::advanceTentative(PersonTrack& tr, double t) {
     return;
   }
   const double moving = t - st.moving_since_t;
+  const double travel = std::hypot(tr.filter.x() - st.from_x, tr.filter.y() - st.from_y);
   // A person back in view is known sooner (never what appeared near an object: an object
-  // moving off must not take a person's id).
-  if (!st.near_static && moving >= options_.reacquire_s &&
+  // moving off must not take a person's id; nor what stands still, whose velocity is noise).
+  if (!st.near_static && moving >= options_.reacquire_s && travel >= options_.reacquire_travel &&
       reidentify(tr.filter.x(), tr.filter.y(), t) != nullptr) {
     confirm(tr, t);
     return;
   }
-  const double travel = std::hypot(tr.filter.x() - st.from_x, tr.filter.y() - st.from_y);
   const double needed = st.near_static ? options_.confirm_static_s : options_.confirm_s;
   if (moving < needed || travel < options_.confirm_travel) return;
   confirm(tr, t);
@@ -304,7 +304,7 @@ void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanH
 }
 
 bool PersonTracker::nearStaticTrack(double x, double y, double t) const {
-  const double reach = 2 * options_.gate;
+  const double reach = options_.gate;
   for (const StaticEnd& e : static_ends_) {
     if (std::hypot(e.x - x, e.y - y) <= reach && t - e.t <= options_.confirm_static_s) return true;
   }

@@ -43,8 +43,9 @@ struct PeopleOptions {
   double reid_distance = 50.0;    ///< [m] ...to a new track confirmed this near their last detection; [0, 100]
   double max_speed = 2.0;         ///< [m/s] ...and within gate + max_speed x time since; (0, 20]
   /// [s] a new track within reid_distance of a lost person (and not near an object) is that
-  /// person once it has been seen this long, moving or not; [0, confirm_s]
+  /// person once it has kept moving this long; [0, confirm_s]
   double reacquire_s = 0.2;
+  double reacquire_travel = 0.25;  ///< [m] ...and gone this far; [0, confirm_travel]
   int empty_scans = 3;            ///< a lost person's place seen empty this many scans in a row ends them; [1, 1000]
   /// [m] no object is confirmed this near a person; 0 = off (the default: with confirm_s = 1 a
   /// gliding cylinder is confirmed as a person for a while, and keeping objects out there cost
