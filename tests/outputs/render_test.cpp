@@ -67,5 +67,35 @@ TEST(Render, PixelsAndScales) {
   EXPECT_NEAR(p.y, (static_cast<int>(m.getSizeY()) - 1 - 2) * 4 + 2, 1);
 }
 
+TEST(Render, PlainGridOnStaticGeometryKeepsSizeOriginAndResolution) {
+  const DynamicGridMap m = scene();  // 20 x 10 cells from (0, 0)
+  // A plain grid of another extent: 1 m more to the west, less to the east.
+  mrpt::maps::COccupancyGridMap2D plain(-1, 1.5, 0, 1, 0.1f);
+  plain.setCell(plain.x2idx(0.55), plain.y2idx(0.55), 0.0f);  // occupied at (0.55, 0.55)
+  const mrpt::img::CImage img = renderStaticOn(plain, m);
+  EXPECT_EQ(img.getWidth(), m.getSizeX());
+  EXPECT_EQ(img.getHeight(), m.getSizeY());
+  const int top = static_cast<int>(m.getSizeY()) - 1;
+  auto pixelOf = [&](double x, double y) {  // S's cell of (x, y), north up
+    return std::pair<int, int>{m.x2idx(x), top - m.y2idx(y)};
+  };
+  const auto [ox, oy] = pixelOf(0.55, 0.55);
+  EXPECT_EQ(greyAt(img, ox, oy), 0);  // the occupied cell, at its place in S's grid
+  const auto [fx, fy] = pixelOf(0.25, 0.55);
+  EXPECT_EQ(greyAt(img, fx, fy), DynamicGridMap::l2p_255(0));  // observed by neither
+  // East of the plain grid (x > 1.5 m): never observed there, the prior's grey.
+  const auto [ex, ey] = pixelOf(1.85, 0.35);
+  EXPECT_EQ(greyAt(img, ex, ey), DynamicGridMap::l2p_255(0));
+}
+
+TEST(Render, OverlayHasItsLegendStripBelowTheMap) {
+  const DynamicGridMap m = scene();
+  const View v = observedView(m);
+  const mrpt::img::CImage img = renderOverlay(m, {});
+  EXPECT_EQ(img.getWidth(), static_cast<std::size_t>((v.cx1 - v.cx0) * v.scale));
+  EXPECT_GT(img.getHeight(), static_cast<std::size_t>((v.cy1 - v.cy0) * v.scale));
+  EXPECT_EQ(img.getHeight() % 2, 0u);  // video frames need even sizes
+}
+
 }  // namespace
 }  // namespace dynamap

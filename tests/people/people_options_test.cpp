@@ -64,6 +64,14 @@ TEST(PeopleOptions, EveryRuleNamesItsKey) {
       {"hold_radius = 3", "hold_radius"},
       {"empty_scans = 0", "empty_scans"},
       {"exclusion_radius = -1", "exclusion_radius"},
+      {"object_max_extent = 11", "object_max_extent"},
+      {"lost_s = -1", "lost_s"},
+      {"lost_s = 3601", "lost_s"},
+      {"reid_distance = 101", "reid_distance"},
+      {"max_speed = 0", "max_speed"},
+      {"reacquire_s = 0.7", "reacquire_s"},          // above confirm_s
+      {"reacquire_travel = 0.6", "reacquire_travel"},  // above confirm_travel
+      {"reacquire_travel = -0.1", "reacquire_travel"},
       {"gate = fast", "gate"},
       {"enabled = maybe", "enabled"},
       {"gait = 1", "gait"},

@@ -211,7 +211,49 @@ TEST(PersonTracking, MovedCylinderIsNoPerson) {
   const WorldRun r = runWorld(text);
   EXPECT_TRUE(r.people.empty());
   EXPECT_TRUE(r.rows.empty());
+}
 
+// Walks 4.6 m from (-5, -3) to behind the standing robot (x < -9, out of its 180 deg view),
+// stands there 6 s (longer than coast_s: the track is lost), and walks back into view.
+const char* kBehindTheRobot =
+    "[people]\nperson.1 = 0.45 1.0  -5 -3  -9.6 -3\nlegs.1 = 0.15 0.25\npause.1 = 1 2 6\n";
+
+TEST(PersonTracking, WalkerBackInViewGetsTheirIdBack) {
+  const std::string text = hall(kBehindTheRobot, 20);
+  const WorldRun r = runWorld(text);
+  ASSERT_EQ(r.people.size(), 1u);
+  EXPECT_EQ(idsNear(r, scenarioOf(text), 1, 0.5), std::set<int>{1});
+  // Seen before it leaves (t < 4) and again after it is back in view (t > 13).
+  std::size_t before = 0, after = 0;
+  for (const Row& row : r.rows) {
+    before += row.t < 4;
+    after += row.t > 13;
+  }
+  EXPECT_GT(before, 5u);
+  EXPECT_GT(after, 5u);
+  // Without re-identification the walker back in view is a second person.
+  MapConfig config;
+  config.people.lost_s = 0;
+  EXPECT_EQ(runWorld(text, config).people.size(), 2u);
+}
+
+TEST(PersonTracking, ALostIdIsNotGivenToSomeoneTooFarAwayToHaveWalkedThere) {
+  // Walker 1 leaves the view as above at 4 s; walker 2 waits 5 s behind the robot too, 7 m from
+  // walker 1, then walks into view: confirmed a moment after walker 1 went out of sight, it is
+  // too far from them to be them (max_speed), though the only person the tracker lost.
+  const std::string text = hall(std::string(kBehindTheRobot) +
+                                    "person.2 = 0.45 1.0  -9.6 4  5 4\nlegs.2 = 0.15 0.25\n"
+                                    "pause.2 = 2 1 5\n",
+                                12);
+  const sim::Scenario sc = scenarioOf(text);
+  const WorldRun r = runWorld(text);
+  ASSERT_EQ(r.people.size(), 2u);
+  EXPECT_EQ(idsNear(r, sc, 1, 0.5), std::set<int>{1});
+  EXPECT_EQ(idsNear(r, sc, 2, 0.5), std::set<int>{2});
+  // Were people as fast as 20 m/s, walker 2 could be walker 1 back in view.
+  MapConfig config;
+  config.people.max_speed = 20;
+  EXPECT_EQ(idsNear(runWorld(text, config), sc, 2, 0.5), std::set<int>{1});
 }
 
 }  // namespace
