@@ -154,7 +154,7 @@ PersonTrack* PersonTracker::reidentify(double x, double y, double t) {
     // Lost, or coasting unseen: a prediction can run on through a wall while the person turned.
     const auto* lost = std::get_if<LostState>(&tr.state);
     const auto* coast = std::get_if<CoastingState>(&tr.state);
-    if (lost == nullptr && (coast == nullptr || coast->held)) continue;
+    if (tr.id == 0 || (lost == nullptr && (coast == nullptr || coast->held))) continue;
     if (lost != nullptr && t - lost->since_t > options_.lost_s) continue;
     // Measured from their last detection, not a prediction: people turn where they cannot be
     // seen. Nobody walks faster than max_speed.
@@ -193,6 +193,8 @@ void PersonTracker::confirm(PersonTrack& tr, double t) {
 }
 
 void PersonTracker::correct(PersonTrack& tr, const PersonDetection& d, double t) {
+  // Its id went to a new track earlier in this scan (it was unseen): that track is the person.
+  if (tr.kind() == PersonState::Ended) return;
   // One leg alone lies off the person's centre by up to half a stride: trusted less.
   const double std = d.legs == 1 ? 2 * options_.measurement_std : options_.measurement_std;
   tr.filter.update(d.x, d.y, std);

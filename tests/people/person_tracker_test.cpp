@@ -256,5 +256,28 @@ TEST(PersonTracking, ALostIdIsNotGivenToSomeoneTooFarAwayToHaveWalkedThere) {
   EXPECT_EQ(idsNear(runWorld(text, config), sc, 2, 0.5), std::set<int>{1});
 }
 
+TEST(PersonTracker, AnIdGivenBackIsNeverAlsoKeptByTheTrackThatHadIt) {
+  // B stands at the origin (a tentative track); A walks from (5, 0) at 1 m/s, is a person,
+  // and is unseen from 1 s on. From 3 s B walks: it is a lost person back in view, and takes
+  // A's id. In the scan it does, A is detected again. Whatever that scan is, A's old track
+  // must not go on as a person without an id.
+  for (int back = 16; back <= 22; ++back) {
+    PersonTracker tracker;
+    const ScanHits nothing;  // no beam: every place unseen
+    for (int k = 0; k <= back + 5; ++k) {
+      const double t = 0.2 * k;
+      std::vector<PersonDetection> dets;
+      dets.push_back({t < 3 ? 0.0 : t - 3.0, 0, 0});
+      if (t <= 1.0 || k >= back) dets.push_back({5 + t, 0, 0});
+      tracker.update(dets, nothing, t);
+      for (const PersonTrack& tr : tracker.tracks()) {
+        if (tr.kind() != PersonState::Tentative && tr.kind() != PersonState::Ended)
+          EXPECT_NE(tr.id, 0) << "back at scan " << back << ", scan " << k;
+      }
+      for (const PersonRow& r : tracker.reported()) EXPECT_GE(r.person_id, 1);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dynamap
