@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <unordered_set>
 
 #include "dynamap/mapping/dynamic_grid_map.h"
 
@@ -156,9 +158,13 @@ bool staticOccupied(const DynamicGridMap& map, int cx, int cy) {
 
 // Whether the cells S holds occupied 8-connected to (cx, cy) all fit in a square of `extent`
 // cells: a body that could be moved (a bin, a chair), not a wall. Stops as soon as they do not,
-// so a wall costs a few dozen cells.
-bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent) {
-  std::vector<std::pair<int, int>> todo{{cx, cy}}, seen{{cx, cy}};
+// so a wall costs a few dozen cells; every cell met goes into `seen`, so that other cells of the
+// same body are not searched again.
+bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
+                     std::unordered_set<std::int64_t>& seen) {
+  auto key = [](int x, int y) { return (static_cast<std::int64_t>(x) << 32) ^ static_cast<std::uint32_t>(y); };
+  std::vector<std::pair<int, int>> todo{{cx, cy}};
+  seen.insert(key(cx, cy));
   int x0 = cx, x1 = cx, y0 = cy, y1 = cy;
   while (!todo.empty()) {
     const auto [x, y] = todo.back();
@@ -167,12 +173,9 @@ bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent) {
     if (x1 - x0 >= extent || y1 - y0 >= extent) return false;
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
-        const std::pair<int, int> n{x + dx, y + dy};
-        if (!staticOccupied(map, n.first, n.second) ||
-            std::find(seen.begin(), seen.end(), n) != seen.end())
+        if (!staticOccupied(map, x + dx, y + dy) || !seen.insert(key(x + dx, y + dy)).second)
           continue;
-        seen.push_back(n);
-        todo.push_back(n);
+        todo.emplace_back(x + dx, y + dy);
       }
     }
   }
@@ -184,13 +187,16 @@ bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptio
   const int n = static_cast<int>(std::ceil(o.static_clearance / res));
   const int extent = static_cast<int>(std::ceil(o.object_max_extent / res));
   const int cx = map.x2idx(x), cy = map.y2idx(y);
+  std::unordered_set<std::int64_t> seen;  // cells of S's bodies already searched
   for (int dy = -n; dy <= n; ++dy) {
     for (int dx = -n; dx <= n; ++dx) {
       if (std::hypot(dx, dy) * res > o.static_clearance) continue;
       // An object D holds, or a small body in S: something that stood here and may be moving
       // off, not someone walking. A wall (a larger body of S) is passed by people all the time.
       if (map.isObjectCell(cx + dx, cy + dy)) return true;
-      if (staticOccupied(map, cx + dx, cy + dy) && smallStaticBlob(map, cx + dx, cy + dy, extent))
+      const std::int64_t k = (static_cast<std::int64_t>(cx + dx) << 32) ^ static_cast<std::uint32_t>(cy + dy);
+      if (staticOccupied(map, cx + dx, cy + dy) && !seen.count(k) &&
+          smallStaticBlob(map, cx + dx, cy + dy, extent, seen))
         return true;
     }
   }
