@@ -32,7 +32,7 @@ const OptionTable<PeopleOptions>& PeopleOptions::table() {
           {"confirm_s", &O::confirm_s, Range::closed(0, 600), "s",
            "a new track is a person after moving this long without a pause"},
           {"confirm_static_s", &O::confirm_static_s, Range::closed(0, 600), "s",
-           "...this long when it appeared near a cell S holds occupied (at least confirm_s)"},
+           "...this long when it appeared near an object (D's object cells, a small body of S; at least confirm_s)"},
           {"static_clearance", &O::static_clearance, Range::closed(0, 2), "m", "...this near"},
           {"object_max_extent", &O::object_max_extent, Range::closed(0, 10), "m",
            "...of a body S holds that fits in a square this wide (larger ones are walls)"},

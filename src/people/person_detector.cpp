@@ -30,15 +30,19 @@ ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::po
   h.step = std::abs(step);
   h.ranges.resize(n);
   h.angles.resize(n);
+  h.cosines.resize(n);
+  h.sines.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double a = sensor.phi() + dir * (first + step * static_cast<double>(i));
     h.angles[i] = a;
+    h.cosines[i] = std::cos(a);
+    h.sines[i] = std::sin(a);
     const float r = scan.getScanRange(i);
     const bool echo = scan.getScanRangeValidity(i) && std::isfinite(r) && r >= 0.0f;
     h.ranges[i] = echo ? std::min(r, static_cast<float>(max_range)) : -1.0f;
     // An echo at the cut-off is where the insertion stops, not a surface.
     if (!echo || r >= max_range) continue;
-    h.points.push_back({h.sensor_x + r * std::cos(a), h.sensor_y + r * std::sin(a), i});
+    h.points.push_back({h.sensor_x + r * h.cosines[i], h.sensor_y + r * h.sines[i], i});
   }
   return h;
 }
@@ -156,47 +160,52 @@ bool staticOccupied(const DynamicGridMap& map, int cx, int cy) {
   return map.staticOccupancy(cx, cy) > 0.5f;
 }
 
-// Whether the cells S holds occupied 8-connected to (cx, cy) all fit in a square of `extent`
+std::int64_t cellKey(int x, int y) {
+  return static_cast<std::int64_t>(static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32 |
+                                   static_cast<std::uint32_t>(y));
+}
+
+// Whether the cells S holds occupied connected to (cx, cy) all fit in a square of `extent`
 // cells: a body that could be moved (a bin, a chair), not a wall. Stops as soon as they do not,
-// so a wall costs a few dozen cells; every cell met goes into `seen`, so that other cells of the
-// same body are not searched again.
+// so a wall costs a few dozen cells, and adds the cells it met to `large`: a search from another
+// cell of the same wall stops as soon as it meets one of them.
 bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
-                     std::unordered_set<std::int64_t>& seen) {
-  auto key = [](int x, int y) { return (static_cast<std::int64_t>(x) << 32) ^ static_cast<std::uint32_t>(y); };
+                     std::unordered_set<std::int64_t>& large) {
+  std::unordered_set<std::int64_t> seen{cellKey(cx, cy)};
   std::vector<std::pair<int, int>> todo{{cx, cy}};
-  seen.insert(key(cx, cy));
   int x0 = cx, x1 = cx, y0 = cy, y1 = cy;
-  while (!todo.empty()) {
+  bool small = true;
+  while (!todo.empty() && small) {
     const auto [x, y] = todo.back();
     todo.pop_back();
     x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-    if (x1 - x0 >= extent || y1 - y0 >= extent) return false;
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        if (!staticOccupied(map, x + dx, y + dy) || !seen.insert(key(x + dx, y + dy)).second)
-          continue;
-        todo.emplace_back(x + dx, y + dy);
+    small = x1 - x0 < extent && y1 - y0 < extent && !large.count(cellKey(x, y));
+    // Cells up to 2 apart are one body: a wall seen from afar has a free cell between two hits.
+    for (int dy = -2; dy <= 2 && small; ++dy) {
+      for (int dx = -2; dx <= 2; ++dx) {
+        if (staticOccupied(map, x + dx, y + dy) && seen.insert(cellKey(x + dx, y + dy)).second)
+          todo.emplace_back(x + dx, y + dy);
       }
     }
   }
-  return true;
+  if (!small) large.insert(seen.begin(), seen.end());
+  return small;
 }
 
-bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptions& o) {
+bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptions& o,
+                std::unordered_set<std::int64_t>& large) {
   const double res = map.getResolution();
   const int n = static_cast<int>(std::ceil(o.static_clearance / res));
   const int extent = static_cast<int>(std::ceil(o.object_max_extent / res));
   const int cx = map.x2idx(x), cy = map.y2idx(y);
-  std::unordered_set<std::int64_t> seen;  // cells of S's bodies already searched
   for (int dy = -n; dy <= n; ++dy) {
     for (int dx = -n; dx <= n; ++dx) {
       if (std::hypot(dx, dy) * res > o.static_clearance) continue;
       // An object D holds, or a small body in S: something that stood here and may be moving
       // off, not someone walking. A wall (a larger body of S) is passed by people all the time.
       if (map.isObjectCell(cx + dx, cy + dy)) return true;
-      const std::int64_t k = (static_cast<std::int64_t>(cx + dx) << 32) ^ static_cast<std::uint32_t>(cy + dy);
-      if (staticOccupied(map, cx + dx, cy + dy) && !seen.count(k) &&
-          smallStaticBlob(map, cx + dx, cy + dy, extent, seen))
+      if (staticOccupied(map, cx + dx, cy + dy) && !large.count(cellKey(cx + dx, cy + dy)) &&
+          smallStaticBlob(map, cx + dx, cy + dy, extent, large))
         return true;
     }
   }
@@ -209,7 +218,8 @@ std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanH
                                           const PeopleOptions& o) {
   const std::vector<HitPoint2> free = freeSpaceHits(map, hits, o.wall_guard_cells);
   std::vector<PersonDetection> out = pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
-  for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o);
+  std::unordered_set<std::int64_t> large;  // cells of S's walls met so far, for every detection
+  for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o, large);
   return out;
 }
 

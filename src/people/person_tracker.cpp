@@ -65,9 +65,11 @@ const char* toString(PersonState s) {
 DiscView viewDisc(const ScanHits& h, double x, double y, double r) {
   constexpr double kMargin = 0.05;  // [m] range noise and the body's own depth
   int occupied = 0, crossed = 0;
+  const bool cached = h.cosines.size() == h.angles.size() && h.sines.size() == h.angles.size();
+  const double dx = x - h.sensor_x, dy = y - h.sensor_y;
   for (std::size_t i = 0; i < h.angles.size(); ++i) {
-    const double dx = x - h.sensor_x, dy = y - h.sensor_y;
-    const double c = std::cos(h.angles[i]), s = std::sin(h.angles[i]);
+    const double c = cached ? h.cosines[i] : std::cos(h.angles[i]);
+    const double s = cached ? h.sines[i] : std::sin(h.angles[i]);
     const double along = dx * c + dy * s, perp = std::abs(dx * s - dy * c);
     if (along <= 0 || perp >= r) continue;
     const double half = std::sqrt(r * r - perp * perp);

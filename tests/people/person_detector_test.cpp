@@ -105,5 +105,35 @@ TEST(DetectPeople, HitsOnAWallAreNeverADetection) {
   EXPECT_NEAR(d[0].y, 0.0, 0.02);
 }
 
+TEST(DetectPeople, NextToASmallBodyOfSIsNearStaticNextToAWallIsNot) {
+  // The room above with a 0.35 m box 2 m ahead (beams 85..95), in S from the start.
+  DynamicGridMap map;
+  const mrpt::poses::CPose2D pose(0, 0, 0);
+  const int n = 181;
+  std::vector<float> ranges = test::roomRanges(-3, 3, -2, 2, pose, n, M_PI);
+  for (int i = 85; i <= 95; ++i) ranges[static_cast<std::size_t>(i)] = 2.0f;
+  for (int i = 0; i < 20; ++i) {
+    map.insertObservation(*test::makeScan(ranges, M_PI, i * 0.2), mrpt::poses::CPose3D(pose));
+  }
+  // Someone beside the box (beams 97..103 at 1.7 m, 0.3 m from it), and someone 0.3 m in front
+  // of the east wall (beams 60..64, where the wall is 3.2-3.5 m away).
+  std::vector<float> seen = ranges;
+  for (int i = 97; i <= 103; ++i) seen[static_cast<std::size_t>(i)] = 1.7f;
+  for (int i = 60; i <= 64; ++i) seen[static_cast<std::size_t>(i)] -= 0.3f;
+  const auto d = detectPeople(map, scanHits(*test::makeScan(seen, M_PI, 5.0), pose, 15.0),
+                              PeopleOptions{});
+  ASSERT_EQ(d.size(), 2u);
+  for (const PersonDetection& p : d) {
+    const bool by_box = p.y > 0;
+    EXPECT_EQ(p.near_static, by_box) << p.x << " " << p.y;
+  }
+  // A box as wide as the room's walls are long counts as a wall.
+  PeopleOptions small_objects;
+  small_objects.object_max_extent = 0.2;
+  for (const PersonDetection& p :
+       detectPeople(map, scanHits(*test::makeScan(seen, M_PI, 5.2), pose, 15.0), small_objects))
+    EXPECT_FALSE(p.near_static);
+}
+
 }  // namespace
 }  // namespace dynamap

@@ -31,6 +31,8 @@ struct ScanHits {
   /// Per beam: the range [m] of its echo, or < 0 without one (for "is this place seen empty").
   std::vector<float> ranges;
   std::vector<double> angles;  ///< per beam: its direction in the map frame [rad]
+  /// cos and sin of `angles` (filled by scanHits; empty: viewDisc works them out itself)
+  std::vector<double> cosines, sines;
   double max_range = 0;        ///< [m] a beam without an echo saw free space this far
   double step = 0;             ///< [rad] between neighbouring beams
 };
@@ -58,8 +60,9 @@ std::vector<PointCluster> clusterPoints(const std::vector<HitPoint2>& points, do
 struct PersonDetection {
   double x = 0, y = 0;
   int legs = 0;  ///< 2: a pair of legs; 1: one leg; 0: one body-sized cluster
-  /// A cell S holds occupied, or an object cell of D, lies within static_clearance of it (set
-  /// by detectPeople): it may be an object leaving the place it stood at.
+  /// An object cell of D, or a cell of a body S holds that fits in object_max_extent (not a
+  /// wall), lies within static_clearance of it (set by detectPeople): it may be an object
+  /// leaving the place it stood at.
   bool near_static = false;
 };
 /// Legs (clusters up to max_leg_width) are paired greedily, nearest pair first, when their

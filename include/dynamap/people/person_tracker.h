@@ -7,11 +7,16 @@
 // method); unassigned detections start tentative tracks.
 //
 // Life of a track: Tentative (new; must keep moving for confirm_s and go confirm_travel from
-// where it appeared; confirm_static_s when it appeared next to something S holds: a moved
-// object glides out of its place for a few seconds and then stays, a person walks on) -> Confirmed (a person, with an id) -> Coasting (not detected this scan) -> Ended. A coasting
-// person whose place the scan shows occupied (a beam ends within hold_radius) is held: a person
-// who stopped keeps their id, however long, until they walk on (a detection again) or their
-// place is seen empty for empty_scans scans; out of view, a coasting person ends after coast_s.
+// where it appeared; confirm_static_s when it appeared next to an object, or next to an object's
+// track that broke off: a moved object glides out of its place for a few seconds and then
+// stays, a person walks on) -> Confirmed (a person, with an id) -> Coasting (not detected this
+// scan) -> Lost -> Ended. A coasting person whose place the scan shows occupied (a beam ends
+// within hold_radius) is held: a person who stopped keeps their id, however long, until they
+// walk on (a detection again) or their place is seen empty for empty_scans scans; out of view
+// past coast_s, or seen empty, a person is Lost: kept lost_s, and a track confirmed within
+// reach of where they were last detected (reid_distance, and gate + max_speed x the time since)
+// takes their id back, the nearest such person first; such a track is confirmed after
+// reacquire_s and reacquire_travel.
 
 #include <cstddef>
 #include <variant>
