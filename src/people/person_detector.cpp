@@ -200,7 +200,7 @@ bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptio
   const int cx = map.x2idx(x), cy = map.y2idx(y);
   for (int dy = -n; dy <= n; ++dy) {
     for (int dx = -n; dx <= n; ++dx) {
-      if (std::hypot(dx, dy) * res > o.static_clearance) continue;
+      if ((dx * dx + dy * dy) * res * res > o.static_clearance * o.static_clearance) continue;
       // An object D holds, or a small body in S: something that stood here and may be moving
       // off, not someone walking. A wall (a larger body of S) is passed by people all the time.
       if (map.isObjectCell(cx + dx, cy + dy)) return true;

@@ -67,7 +67,21 @@ DiscView viewDisc(const ScanHits& h, double x, double y, double r) {
   int occupied = 0, crossed = 0;
   const bool cached = h.cosines.size() == h.angles.size() && h.sines.size() == h.angles.size();
   const double dx = x - h.sensor_x, dy = y - h.sensor_y;
-  for (std::size_t i = 0; i < h.angles.size(); ++i) {
+  // Evenly spaced beams: only those within the disc's angular span (and one more on each side)
+  // can reach it; the rest of the loop's test would skip them.
+  std::size_t first = 0, last = h.angles.size();
+  const double dist = std::hypot(dx, dy);
+  if (h.angles.size() > 1 && dist > r) {
+    const double d = std::remainder(h.angles[1] - h.angles[0], 2 * M_PI);
+    if (std::abs(d) > 1e-9) {
+      const double centre = std::remainder(std::atan2(dy, dx) - h.angles[0], 2 * M_PI) / d;
+      const double span = std::asin(r / dist) / std::abs(d) + 1;
+      const double n = static_cast<double>(h.angles.size());
+      first = static_cast<std::size_t>(std::clamp(std::floor(centre - span), 0.0, n));
+      last = static_cast<std::size_t>(std::clamp(std::ceil(centre + span) + 1, 0.0, n));
+    }
+  }
+  for (std::size_t i = first; i < last; ++i) {
     const double c = cached ? h.cosines[i] : std::cos(h.angles[i]);
     const double s = cached ? h.sines[i] : std::sin(h.angles[i]);
     const double along = dx * c + dy * s, perp = std::abs(dx * s - dy * c);
