@@ -271,8 +271,9 @@ TEST(PersonTracker, AnIdGivenBackIsNeverAlsoKeptByTheTrackThatHadIt) {
       if (t <= 1.0 || k >= back) dets.push_back({5 + t, 0, 0});
       tracker.update(dets, nothing, t);
       for (const PersonTrack& tr : tracker.tracks()) {
-        if (tr.kind() != PersonState::Tentative && tr.kind() != PersonState::Ended)
+        if (tr.kind() != PersonState::Tentative && tr.kind() != PersonState::Ended) {
           EXPECT_NE(tr.id, 0) << "back at scan " << back << ", scan " << k;
+        }
       }
       for (const PersonRow& r : tracker.reported()) EXPECT_GE(r.person_id, 1);
     }
