@@ -68,8 +68,12 @@ struct Writers {
   std::string frames_dir;
 };
 
-void afterScan(const MapJob& job, const Mapper& mapper, Writers& w, const ScanRecord& rec) {
-  if (w.baseline) {  // timed on its own, so both runs' speeds can be reported
+void afterScan(const MapJob& job, const Mapper& mapper, Writers& w, const ScanRecord& rec,
+               const ScanResult& result) {
+  // The baseline sees exactly the scans the mapper inserted, at the pose it used (rec's, after
+  // scan matching): a scan the mapper skipped (a pose past max_map_size_m, no usable beam) is
+  // skipped by both, so the two maps compare like with like and a file bounds both alike.
+  if (w.baseline && result.inserted) {  // timed on its own, so both speeds can be reported
     const auto t0 = Clock::now();
     w.baseline->insert(*rec.scan, rec.pose);
     w.baseline_time += Clock::now() - t0;
@@ -118,8 +122,8 @@ MapJobResult runMapJob(const MapJob& job) {
   Writers w(job);
   const auto start = Clock::now();
   MapJobResult r;
-  r.outcome = runMapping(*source, mapper, [&](const ScanRecord& rec, const ScanResult&) {
-    afterScan(job, mapper, w, rec);
+  r.outcome = runMapping(*source, mapper, [&](const ScanRecord& rec, const ScanResult& result) {
+    afterScan(job, mapper, w, rec, result);
     if (job.progress) job.progress(source->fractionRead(), mapper.counts().scans_used);
   });
   w.tracks.finish();
