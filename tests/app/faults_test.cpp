@@ -264,6 +264,33 @@ TEST(Faults, APoseJumpBeyondMaxMapSizeIsSkippedAndCountedNotAllocated) {
   EXPECT_NE(out.find("beyond max_map_size_m"), std::string::npos) << out;
 }
 
+// The plain MRPT grid (on by default) once took every scan the mapper skipped: a pose 5,000 km
+// away or a NaN range crashed the run (SIGSEGV after gigabytes) and lost every output.
+TEST(Faults, TheBaselineSeesOnlyTheScansTheMapperInserted) {
+  const std::string dir = test::tempDir("baseline");
+  auto steps = roomSteps();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  steps[10].pose = CPose2D(5.0e6, -3.0e6, 0.0);
+  setBeams(steps[3], 0, 5, nan);
+  setBeams(steps[5], 10, 3, -std::numeric_limits<float>::infinity());
+  setBeams(steps[13], 0, 61, nan);
+  test::writeObsRawlog(dir + "/bad.rawlog", steps);
+  std::string out;
+  ASSERT_EQ(test::run(kExe + " map --input " + dir + "/bad.rawlog --out " + dir + "/o", &out), 0)
+      << out;
+  const std::string summary = test::readFile(dir + "/o/summary.json");
+  EXPECT_EQ(summaryNumber(summary, "beyond max_map_size_m"), 1) << summary;
+  EXPECT_EQ(summaryNumber(summary, "no usable beam"), 1) << summary;
+  EXPECT_EQ(summaryNumber(summary, "used"), 18) << summary;
+  EXPECT_NE(summary.find("\"mrpt_baseline\""), std::string::npos) << summary;
+  EXPECT_TRUE(fs::exists(dir + "/o/mrpt_plain.png"));
+  // A CARMEN line with a pose of 1e9 m, the smallest input that crashed it.
+  const std::string carmen = kSrc + "/tests/fuzz_regressions/baseline/carmen_pose_of_1e9_m.log";
+  ASSERT_EQ(test::run(kExe + " map --input " + carmen + " --out " + dir + "/c", &out), 0) << out;
+  EXPECT_EQ(summaryNumber(test::readFile(dir + "/c/summary.json"), "beyond max_map_size_m"), 1);
+  EXPECT_TRUE(fs::exists(dir + "/c/mrpt_plain.png"));
+}
+
 TEST(Faults, MissingPosesAreAnErrorNamingTheFirstScanWithoutOne) {
   const std::string dir = test::tempDir("noposes");
   const auto steps = roomSteps();
@@ -406,7 +433,9 @@ TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
       {"scenario", fuzz::scenarioInput},
       {"carmen", fuzz::carmenInput},
       {"rawlog", fuzz::rawlogInput},
-      {"bag", fuzz::bagInput}};
+      {"bag", fuzz::bagInput},
+      {"baseline", fuzz::baselineInput},
+      {"config", fuzz::configInput}};
   std::size_t files = 0;
   for (const auto& [name, entry] : targets) {
     const fs::path dir = fs::path(kSrc) / "tests/fuzz_regressions" / name;
