@@ -32,7 +32,7 @@ DEB_PACKAGES := cmake g++ make \
   libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
   libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
   libmrpt-graphslam-dev \
-  libeigen3-dev libboost-program-options-dev libgtest-dev \
+  libeigen3-dev libboost-program-options-dev libgtest-dev zlib1g-dev nlohmann-json3-dev \
   mrpt-common ffmpeg $(ROSBAG_PACKAGES)
 
 BUILD_DIR ?= build

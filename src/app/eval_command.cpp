@@ -18,6 +18,7 @@
 #include "cli.h"
 #include "dynamap/base/ini.h"
 #include "dynamap/evaluation/evaluation.h"
+#include "dynamap/input/line_reader.h"
 #include "dynamap/input/open_source.h"
 #include "dynamap/input/pose_file.h"
 #include "dynamap/outputs/map_job.h"
@@ -53,9 +54,8 @@ const char* const kUsage =
 class CsvReader {
  public:
   CsvReader(const std::string& path, const std::string& header) : path_(path), in_(path) {
-    if (!in_) throw InputError(path + ": cannot open");
     std::string line;
-    if (!std::getline(in_, line) || trim(line) != header) {
+    if (!in_.next(line) || trim(line) != header) {
       throw InputError(path + ":1: expected the header \"" + header + "\"");
     }
     line_ = 1;
@@ -64,8 +64,8 @@ class CsvReader {
   /// The next non-empty line's fields, false at the end.
   bool next(std::vector<std::string>& fields) {
     std::string line;
-    while (std::getline(in_, line)) {
-      ++line_;
+    while (in_.next(line)) {
+      line_ = in_.lineNumber();
       line = trim(line);
       if (line.empty()) continue;
       fields.clear();
@@ -102,7 +102,7 @@ class CsvReader {
     return b == std::string::npos ? "" : s.substr(b, e - b + 1);
   }
   std::string path_;
-  std::ifstream in_;
+  LineReader in_;  // lines capped in length
   std::size_t line_ = 0;
   std::size_t columns_ = 0;
 };
@@ -692,6 +692,9 @@ void scoreTrajectory(const std::string& file, const std::string& given) {
                                 ? given
                                 : truthPrefix(given) + ".gt.txt";
   const std::vector<TimedPose> estimate = readPoses(file), reference = readPoses(truth);
+  // Nothing to score is an error, not a table of n/a with exit status 0.
+  if (estimate.empty()) throw InputError(file + ": no pose (expected 'timestamp x y phi' lines)");
+  if (reference.empty()) throw InputError(truth + ": no pose (expected 'timestamp x y phi' lines)");
   const TrajectoryError e = trajectoryError(estimate, reference);
   std::cout << "dynamap eval: " << file << " against " << truth << ": " << e.matched
             << " poses scored, " << e.unmatched << " without truth; ATE RMSE position "
