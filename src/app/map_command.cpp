@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "dynamap/base/ini.h"
+#include "dynamap/base/printable.h"
 #include "dynamap/input/fixed_pose.h"
 #include "dynamap/outputs/map_job.h"
 
@@ -46,7 +47,7 @@ void warnAboutSkips(const RunCounts& counts, const SourceStats& stats) {
     list += (list.empty() ? "" : ", ") + kv.first + " (" + std::to_string(kv.second) + ")";
   }
   if (total > 0) {
-    std::cerr << "dynamap map: warning: " << total << " scans skipped: " << list
+    std::cerr << "dynamap map: warning: " << total << " scans skipped: " << printable(list)
               << " (see summary.json)\n";
   }
   if (counts.time_backwards > 0) {
@@ -193,7 +194,7 @@ int runMap(const Args& args) {
   if (!r.outcome.fault.empty()) {
     std::cerr << "dynamap map: warning: input ended in a fault, outputs cover the scans before "
                  "it: "
-              << r.outcome.fault << "\n";
+              << printable(r.outcome.fault) << "\n";
     return kExitPartialInput;
   }
   return kExitOk;

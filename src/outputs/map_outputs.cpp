@@ -138,36 +138,4 @@ void prepareOutputDir(const std::string& dir) {
   fs::remove(probe, ec);
 }
 
-std::string jsonString(const std::string& s) {
-  std::ostringstream o;
-  o << '"';
-  for (const unsigned char c : s) {
-    switch (c) {
-      case '"':
-        o << "\\\"";
-        break;
-      case '\\':
-        o << "\\\\";
-        break;
-      case '\n':
-        o << "\\n";
-        break;
-      case '\t':
-        o << "\\t";
-        break;
-      case '\r':
-        o << "\\r";
-        break;
-      default:
-        if (c < 0x20) {
-          o << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(c) << std::dec;
-        } else {
-          o << c;
-        }
-    }
-  }
-  o << '"';
-  return o.str();
-}
-
 }  // namespace dynamap
