@@ -4,7 +4,9 @@
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -34,7 +36,10 @@ void writeFileAtomically(const std::string& dir, const std::string& name,
   const std::string tmp = tempName(dir, name);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write");
+    if (!out) {
+      throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write (" +
+                               std::strerror(errno) + ")");
+    }
     try {
       write(out);
     } catch (...) {  // a writer that fails leaves no temporary behind
@@ -45,9 +50,11 @@ void writeFileAtomically(const std::string& dir, const std::string& name,
     }
     out.flush();
     if (!out) {
+      const int err = errno;  // ENOSPC on a full disk
       std::error_code ec;
       fs::remove(tmp, ec);
-      throw std::runtime_error((fs::path(dir) / name).string() + ": write failed");
+      throw std::runtime_error((fs::path(dir) / name).string() + ": write failed (" +
+                               std::strerror(err) + ")");
     }
   }
   commit(tmp, dir, name);
