@@ -347,6 +347,9 @@ bool CarmenReader::next(CarmenEvent& out) {
   while (input_->next(line)) {
     ++stats_.records;
     try {
+      if (line.find('\0') != std::string::npos) {
+        throw CarmenParseError("a NUL byte: not a line of text");
+      }
       if (handleLine(line, out)) return true;
     } catch (const CarmenParseError& e) {
       if (!options_.skip_bad_lines) {
@@ -419,7 +422,9 @@ bool looksLikeCarmen(const std::string& path) {
   } catch (const std::exception&) {
     return false;
   }
-  if (head.empty() || head.find('\0') != std::string::npos) return false;
+  if (head.empty()) return false;
+  // Told by the first line that is not blank or a comment; a NUL byte later in the file is a
+  // fault of that line (CarmenReader), wherever it is.
   std::size_t pos = 0;
   while (pos < head.size()) {
     std::size_t end = head.find('\n', pos);
@@ -427,6 +432,7 @@ bool looksLikeCarmen(const std::string& path) {
     if (!complete) end = head.size();
     const std::string line = head.substr(pos, end - pos);
     pos = end + 1;
+    if (line.find('\0') != std::string::npos) return false;  // binary from its start
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     const auto word_end = line.find_first_of(" \t\r", first);
