@@ -32,7 +32,7 @@ DEB_PACKAGES := cmake g++ make \
   libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
   libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
   libmrpt-graphslam-dev \
-  libeigen3-dev libboost-program-options-dev libgtest-dev \
+  libeigen3-dev libboost-program-options-dev libgtest-dev zlib1g-dev nlohmann-json3-dev \
   mrpt-common ffmpeg $(ROSBAG_PACKAGES)
 
 BUILD_DIR ?= build
@@ -135,7 +135,7 @@ test-asan: deps
 # tests/fuzz_regressions/<target>/ (faults_test replays every file there).
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := scenario carmen rawlog bag
+FUZZ_TARGETS := scenario carmen rawlog bag baseline config
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 fuzz-deps: deps
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(FUZZ_PACKAGES)"

@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <sstream>
 #include <string>
 
 #include "dynamap/base/ini.h"
 #include "dynamap/input/carmen_reader.h"
 #include "dynamap/input/open_source.h"
+#include "dynamap/mapping/plain_grid.h"
 #include "dynamap/pipeline/mapper.h"
 #include "dynamap/sim/scenario.h"
 
@@ -101,6 +103,34 @@ void bagInput(const std::uint8_t* data, std::size_t size) {
       drain(*source, &mapper);
     } catch (const std::exception&) {
     }
+  }
+}
+
+void baselineInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = writeScratch(data, size, ".log");
+  const MapConfig config = fuzzMapConfig();
+  try {
+    auto source = openScanSource(path, PoseSource::Auto);
+    Mapper mapper(config);
+    PlainGrid plain(config.map, config.insertion);
+    runMapping(*source, mapper, [&](const ScanRecord& rec, const ScanResult& result) {
+      if (result.inserted) plain.insert(*rec.scan, rec.pose);
+    });
+    comparePlain(mapper.map(), plain.grid());
+  } catch (const std::exception&) {
+  }
+}
+
+void configInput(const std::uint8_t* data, std::size_t size) {
+  try {
+    const IniFile ini =
+        IniFile::fromText(std::string(reinterpret_cast<const char*>(data), size), "fuzz.ini");
+    const MapConfig config = MapConfig::load(ini);
+    std::ostringstream again;
+    config.writeIni(again);
+    // What a run writes as config.ini must load again: an error here is a bug, not bad input.
+    MapConfig::load(IniFile::fromText(again.str(), "config.ini"));
+  } catch (const ConfigError&) {
   }
 }
 

@@ -20,4 +20,12 @@ void rawlogInput(const std::uint8_t* data, std::size_t size);
 /// every scan through the mapper (rosbag's index, or the salvage of a bag without one).
 void bagInput(const std::uint8_t* data, std::size_t size);
 
+/// A log of any format (told by content, as `dynamap map` does) mapped with the plain MRPT
+/// comparison grid beside the mapper: each scan the mapper inserted goes into the baseline at
+/// the mapper's pose, as `dynamap map` feeds it, then the two grids are compared.
+void baselineInput(const std::uint8_t* data, std::size_t size);
+/// A `dynamap map` configuration: IniFile::fromText, MapConfig::load, and the loaded config
+/// written back and loaded again (what config.ini of a run must survive).
+void configInput(const std::uint8_t* data, std::size_t size);
+
 }  // namespace dynamap::fuzz

@@ -18,9 +18,11 @@
 #include "cli.h"
 #include "dynamap/base/ini.h"
 #include "dynamap/evaluation/evaluation.h"
+#include "dynamap/input/line_reader.h"
 #include "dynamap/input/open_source.h"
 #include "dynamap/input/pose_file.h"
 #include "dynamap/outputs/map_job.h"
+#include "dynamap/outputs/json.h"
 #include "dynamap/outputs/map_outputs.h"
 #include "dynamap/pipeline/mapper.h"
 #include "dynamap/sim/scenario.h"
@@ -53,9 +55,8 @@ const char* const kUsage =
 class CsvReader {
  public:
   CsvReader(const std::string& path, const std::string& header) : path_(path), in_(path) {
-    if (!in_) throw InputError(path + ": cannot open");
     std::string line;
-    if (!std::getline(in_, line) || trim(line) != header) {
+    if (!in_.next(line) || trim(line) != header) {
       throw InputError(path + ":1: expected the header \"" + header + "\"");
     }
     line_ = 1;
@@ -64,8 +65,8 @@ class CsvReader {
   /// The next non-empty line's fields, false at the end.
   bool next(std::vector<std::string>& fields) {
     std::string line;
-    while (std::getline(in_, line)) {
-      ++line_;
+    while (in_.next(line)) {
+      line_ = in_.lineNumber();
       line = trim(line);
       if (line.empty()) continue;
       fields.clear();
@@ -102,7 +103,7 @@ class CsvReader {
     return b == std::string::npos ? "" : s.substr(b, e - b + 1);
   }
   std::string path_;
-  std::ifstream in_;
+  LineReader in_;  // lines capped in length
   std::size_t line_ = 0;
   std::size_t columns_ = 0;
 };
@@ -404,107 +405,118 @@ void printTable(std::ostream& o, const Evaluation& ev) {
   for (const auto& n : ev.notes) o << "  note: " << n << "\n";
 }
 
-void writeCellJson(std::ostream& o, const char* name, const CellScores& c, bool last) {
-  o << "    " << jsonString(name) << ": {\"static_cells\": " << c.static_cells
-    << ", \"static_kept\": " << c.static_kept << ", \"dynamic_cells\": " << c.dynamic_cells
-    << ", \"dynamic_clear\": " << c.dynamic_clear << ", \"sa\": " << num(c.sa, 3)
-    << ", \"da\": " << num(c.da, 3) << ", \"aa\": " << num(c.aa, 3) << ", \"ha\": " << num(c.ha, 3)
-    << "}" << (last ? "\n" : ",\n");
+/// `v` with `decimals` fixed decimals as a JSON number; null when it is not a number.
+Json jnum(double v, int decimals) {
+  if (std::isnan(v)) return nullptr;
+  const std::string format = "%." + std::to_string(decimals) + "f";
+  return jsonNumber(format.c_str(), v);
 }
 
-void writeMovesJson(std::ostream& o, const ObjectScores& ob) {
-  o << "  \"moves\": [";
-  for (std::size_t i = 0; i < ob.moves.size(); ++i) {
-    const auto& m = ob.moves[i];
-    o << (i ? ",\n" : "\n") << "    {\"move_id\": " << m.move_id
-      << ", \"object_id\": " << m.object_id << ", \"visible\": " << (m.visible ? "true" : "false")
-      << ", \"visible_scan\": " << (m.visible ? std::to_string(m.visible_scan) : "null")
-      << ", \"visible_t\": " << (m.visible ? num(m.visible_t, 3) : "null")
-      << ", \"matched\": " << (m.matched ? "true" : "false")
-      << ", \"correct\": " << (m.correct ? "true" : "false")
-      << ", \"wrong_id\": " << (m.wrong_id ? "true" : "false")
-      << ", \"double_match\": " << (m.double_match ? "true" : "false")
-      << ", \"latency_s\": " << (m.correct ? num(m.latency_s, 3) : "null")
-      << ", \"latency_scans\": " << (m.correct ? std::to_string(m.latency_scans) : "null") << "}";
+Json cellJson(const CellScores& c) {
+  return {{"static_cells", c.static_cells}, {"static_kept", c.static_kept},
+          {"dynamic_cells", c.dynamic_cells}, {"dynamic_clear", c.dynamic_clear},
+          {"sa", jnum(c.sa, 3)}, {"da", jnum(c.da, 3)}, {"aa", jnum(c.aa, 3)},
+          {"ha", jnum(c.ha, 3)}};
+}
+
+Json movesJson(const ObjectScores& ob) {
+  Json moves = Json::array();
+  for (const auto& m : ob.moves) {
+    moves.push_back({{"move_id", m.move_id},
+                     {"object_id", m.object_id},
+                     {"visible", m.visible},
+                     {"visible_scan", m.visible ? Json(m.visible_scan) : Json(nullptr)},
+                     {"visible_t", m.visible ? jnum(m.visible_t, 3) : Json(nullptr)},
+                     {"matched", m.matched},
+                     {"correct", m.correct},
+                     {"wrong_id", m.wrong_id},
+                     {"double_match", m.double_match},
+                     {"latency_s", m.correct ? jnum(m.latency_s, 3) : Json(nullptr)},
+                     {"latency_scans", m.correct ? Json(m.latency_scans) : Json(nullptr)}});
   }
-  o << (ob.moves.empty() ? "],\n" : "\n  ],\n");
+  return moves;
 }
 
-void writeIdsJson(std::ostream& o, const ObjectScores& ob) {
-  o << "  \"tracker_ids\": [";
-  for (std::size_t i = 0; i < ob.ids.size(); ++i) {
-    const auto& a = ob.ids[i];
-    o << (i ? ",\n" : "\n") << "    {\"id\": " << a.track_id << ", \"rows\": " << a.rows
-      << ", \"assigned_kind\": "
-      << (a.matches == 0 ? "null"
-                         : jsonString(a.body.kind == sim::BodyKind::Object ? "object" : "person"))
-      << ", \"assigned_id\": " << (a.matches == 0 ? "null" : std::to_string(a.body.id))
-      << ", \"matches\": " << a.matches << ", \"far_rows\": " << a.far_rows
-      << ", \"static_object\": " << (a.static_object ? "true" : "false") << "}";
+Json idsJson(const ObjectScores& ob) {
+  Json ids = Json::array();
+  for (const auto& a : ob.ids) {
+    const char* kind = a.body.kind == sim::BodyKind::Object ? "object" : "person";
+    ids.push_back({{"id", a.track_id},
+                   {"rows", a.rows},
+                   {"assigned_kind", a.matches == 0 ? Json(nullptr) : Json(kind)},
+                   {"assigned_id", a.matches == 0 ? Json(nullptr) : Json(a.body.id)},
+                   {"matches", a.matches},
+                   {"far_rows", a.far_rows},
+                   {"static_object", a.static_object}});
   }
-  o << (ob.ids.empty() ? "]\n" : "\n  ]\n");
+  return ids;
 }
 
-/// Fixed key order and number formats: the same inputs give the same bytes. The figures of the
-/// summary table come first, one per line, each key unique in the file (--summary reads them).
-void writeMetricsJson(std::ostream& o, const Evaluation& ev) {
+/// The figures of the summary table, each key unique in the file (--summary reads them).
+Json tableFiguresJson(const Evaluation& ev) {
   const auto& ob = ev.objects;
-  o << "{\n"
-    << "  \"scenario\": " << jsonString(ev.scenario) << ",\n"
-    << "  \"truth\": " << jsonString(ev.truth) << ",\n"
-    << "  \"result\": " << jsonString(ev.result) << ",\n"
-    << "  \"tracks_present\": " << (ev.have_tracks ? "true" : "false") << ",\n"
-    << "  \"moves_total\": " << ev.moves << ",\n"
-    << "  \"moves_visible\": " << ob.visible << ",\n"
-    << "  \"correctly_detected\": " << ob.correct << ",\n"
-    << "  \"not_detected\": " << ob.not_detected << ",\n"
-    << "  \"static_detected_as_objects\": " << ob.static_as_objects << ",\n"
-    << "  \"size_estimation_errors\": " << ob.size_errors << ",\n"
-    << "  \"latency_median_s\": " << num(ob.latency.median_s, 3) << ",\n"
-    << "  \"latency_max_s\": " << num(ob.latency.max_s, 3) << ",\n"
-    << "  \"latency_median_scans\": " << num(ob.latency.median_scans, 1) << ",\n"
-    << "  \"latency_max_scans\": " << num(ob.latency.max_scans, 0) << ",\n"
-    << "  \"dynamap_sa\": " << num(ev.dynamap.sa, 3) << ",\n"
-    << "  \"dynamap_da\": " << num(ev.dynamap.da, 3) << ",\n"
-    << "  \"dynamap_aa\": " << num(ev.dynamap.aa, 3) << ",\n"
-    << "  \"dynamap_ha\": " << num(ev.dynamap.ha, 3) << ",\n"
-    << "  \"mrpt_sa\": " << num(ev.plain.sa, 3) << ",\n"
-    << "  \"mrpt_da\": " << num(ev.plain.da, 3) << ",\n"
-    << "  \"mrpt_aa\": " << num(ev.plain.aa, 3) << ",\n"
-    << "  \"mrpt_ha\": " << num(ev.plain.ha, 3) << ",\n"
-    << "  \"union_precision\": " << num(ev.union_pr.precision, 3) << ",\n"
-    << "  \"union_recall\": " << num(ev.union_pr.recall, 3) << ",\n"
-    << "  \"tracker_id_count\": " << ob.ids.size() << ",\n"
-    << "  \"people_present\": " << (ev.have_people ? "true" : "false") << ",\n"
-    << "  \"mota\": " << num(ev.mot.mota, 3) << ",\n"
-    << "  \"motp_m\": " << num(ev.mot.motp_m, 3) << ",\n"
-    << "  \"mot_person_scans\": " << ev.mot.ground_truth << ",\n"
-    << "  \"mot_matches\": " << ev.mot.matches << ",\n"
-    << "  \"mot_misses\": " << ev.mot.misses << ",\n"
-    << "  \"mot_false_positives\": " << ev.mot.false_positives << ",\n"
-    << "  \"mot_id_switches\": " << ev.mot.id_switches << ",\n"
-    << "  \"mot_track_ids\": " << ev.mot.track_ids << ",\n"
-    << "  \"ate_rmse_xy_m\": " << (ev.have_poses ? num(ev.trajectory.rmse_xy_m, 4) : "null")
-    << ",\n"
-    << "  \"ate_rmse_phi_deg\": "
-    << (ev.have_poses ? num(ev.trajectory.rmse_phi_rad * 180.0 / M_PI, 3) : "null") << ",\n"
-    << "  \"odometry_ate_rmse_xy_m\": " << (ev.have_poses ? num(ev.odometry.rmse_xy_m, 4) : "null")
-    << ",\n"
-    << "  \"odometry_ate_rmse_phi_deg\": "
-    << (ev.have_poses ? num(ev.odometry.rmse_phi_rad * 180.0 / M_PI, 3) : "null") << ",\n"
-    << "  \"cells\": {\n"
-    << "    \"observed\": " << ev.observed << ",\n"
-    << "    \"object_threshold\": " << num(ev.object_threshold, 3) << ",\n"
-    << "    \"union\": {\"predicted\": " << ev.union_pr.predicted
-    << ", \"predicted_right\": " << ev.union_pr.predicted_right
-    << ", \"truth\": " << ev.union_pr.truth << ", \"truth_found\": " << ev.union_pr.truth_found
-    << "},\n";
-  writeCellJson(o, "dynamap", ev.dynamap, false);
-  writeCellJson(o, "plain_mrpt", ev.plain, true);
-  o << "  },\n";
-  writeMovesJson(o, ob);
-  writeIdsJson(o, ob);
-  o << "}\n";
+  return {{"moves_total", ev.moves},
+          {"moves_visible", ob.visible},
+          {"correctly_detected", ob.correct},
+          {"not_detected", ob.not_detected},
+          {"static_detected_as_objects", ob.static_as_objects},
+          {"size_estimation_errors", ob.size_errors},
+          {"latency_median_s", jnum(ob.latency.median_s, 3)},
+          {"latency_max_s", jnum(ob.latency.max_s, 3)},
+          {"latency_median_scans", jnum(ob.latency.median_scans, 1)},
+          {"latency_max_scans", jnum(ob.latency.max_scans, 0)},
+          {"dynamap_sa", jnum(ev.dynamap.sa, 3)},
+          {"dynamap_da", jnum(ev.dynamap.da, 3)},
+          {"dynamap_aa", jnum(ev.dynamap.aa, 3)},
+          {"dynamap_ha", jnum(ev.dynamap.ha, 3)},
+          {"mrpt_sa", jnum(ev.plain.sa, 3)},
+          {"mrpt_da", jnum(ev.plain.da, 3)},
+          {"mrpt_aa", jnum(ev.plain.aa, 3)},
+          {"mrpt_ha", jnum(ev.plain.ha, 3)},
+          {"union_precision", jnum(ev.union_pr.precision, 3)},
+          {"union_recall", jnum(ev.union_pr.recall, 3)},
+          {"tracker_id_count", ob.ids.size()}};
+}
+
+/// People and trajectory figures (null where the result has none).
+Json peopleAndPosesJson(const Evaluation& ev) {
+  const double deg = 180.0 / M_PI;
+  const auto pose = [&](double v, int d) { return ev.have_poses ? jnum(v, d) : Json(nullptr); };
+  return {{"people_present", ev.have_people},
+          {"mota", jnum(ev.mot.mota, 3)},
+          {"motp_m", jnum(ev.mot.motp_m, 3)},
+          {"mot_person_scans", ev.mot.ground_truth},
+          {"mot_matches", ev.mot.matches},
+          {"mot_misses", ev.mot.misses},
+          {"mot_false_positives", ev.mot.false_positives},
+          {"mot_id_switches", ev.mot.id_switches},
+          {"mot_track_ids", ev.mot.track_ids},
+          {"ate_rmse_xy_m", pose(ev.trajectory.rmse_xy_m, 4)},
+          {"ate_rmse_phi_deg", pose(ev.trajectory.rmse_phi_rad * deg, 3)},
+          {"odometry_ate_rmse_xy_m", pose(ev.odometry.rmse_xy_m, 4)},
+          {"odometry_ate_rmse_phi_deg", pose(ev.odometry.rmse_phi_rad * deg, 3)}};
+}
+
+/// Fixed key order and number formats: the same inputs give the same bytes.
+void writeMetricsJson(std::ostream& o, const Evaluation& ev) {
+  Json j = {{"scenario", ev.scenario},
+            {"truth", ev.truth},
+            {"result", ev.result},
+            {"tracks_present", ev.have_tracks}};
+  j.update(tableFiguresJson(ev));
+  j.update(peopleAndPosesJson(ev));
+  j["cells"] = {{"observed", ev.observed},
+                {"object_threshold", jnum(ev.object_threshold, 3)},
+                {"union",
+                 {{"predicted", ev.union_pr.predicted},
+                  {"predicted_right", ev.union_pr.predicted_right},
+                  {"truth", ev.union_pr.truth},
+                  {"truth_found", ev.union_pr.truth_found}}},
+                {"dynamap", cellJson(ev.dynamap)},
+                {"plain_mrpt", cellJson(ev.plain)}};
+  j["moves"] = movesJson(ev.objects);
+  j["tracker_ids"] = idsJson(ev.objects);
+  writeJson(o, j);
 }
 
 void writeReport(std::ostream& o, const Evaluation& ev) {
@@ -540,23 +552,27 @@ void writeReport(std::ostream& o, const Evaluation& ev) {
 
 // ---- --summary ----------------------------------------------------------------------------
 
-/// The value after `"key": ` in a metrics.json written above, as written there ("n/a" for
-/// null): the summary shows the stored figures, not a second rounding of them.
-std::string metric(const std::string& text, const std::string& key, const std::string& file) {
-  const std::string needle = "\"" + key + "\": ";
-  const auto at = text.find(needle);
-  if (at == std::string::npos) {
+/// A figure of a metrics.json written above, as the table shows it ("n/a" for null): integers
+/// as they are, other numbers with the decimals they were written with.
+std::string metric(const Json& metrics, const std::string& key, const std::string& file) {
+  const auto it = metrics.find(key);
+  if (it == metrics.end()) {
     throw InputError(file + ": no \"" + key + "\" (not written by dynamap eval?)");
   }
-  const auto start = at + needle.size();
-  const std::string value = text.substr(start, text.find_first_of(",\n}", start) - start);
-  return value == "null" ? "n/a" : value;
+  if (it->is_null()) return "n/a";
+  if (it->is_number_integer()) return std::to_string(it->get<long long>());
+  if (!it->is_number()) throw InputError(file + ": \"" + key + "\" is not a number");
+  const int decimals = key == "ate_rmse_xy_m" ? 4 : key == "latency_median_scans" ? 1 : 3;
+  return num(it->get<double>(), decimals);
 }
 
 /// An evaluated result directory's metrics.json, and the name its column gets.
 struct EvaluatedResult {
-  std::string name, path, text;
+  std::string name, path;
+  Json metrics;
 };
+
+constexpr std::size_t kMaxMetricsBytes = std::size_t{16} << 20;
 
 std::vector<EvaluatedResult> readEvaluated(const std::vector<std::string>& dirs) {
   std::vector<EvaluatedResult> results;
@@ -564,11 +580,16 @@ std::vector<EvaluatedResult> readEvaluated(const std::vector<std::string>& dirs)
     const std::string path = (fs::path(d) / "metrics.json").string();
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot open (run dynamap eval on " + d + " first)");
-    std::stringstream s;
-    s << in.rdbuf();
+    // metrics.json is small; a file of gigabytes named so is not one.
+    std::string text(kMaxMetricsBytes + 1, '\0');
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxMetricsBytes) throw InputError(path + ": too large for a metrics.json");
     fs::path name = fs::path(d).lexically_normal();
     if (name.filename().empty()) name = name.parent_path();  // "out/arena/"
-    results.push_back({name.filename().string(), path, s.str()});
+    Json metrics = parseJson(text, path);
+    if (!metrics.is_object()) throw InputError(path + ": not a metrics.json (not an object)");
+    results.push_back({name.filename().string(), path, std::move(metrics)});
   }
   return results;
 }
@@ -629,7 +650,7 @@ int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
     }
     o << "| ";
     for (const auto& r : results) {
-      o << std::setw(kColumn - 1) << metric(r.text, row.key, r.path) << ' ';
+      o << std::setw(kColumn - 1) << metric(r.metrics, row.key, r.path) << ' ';
     }
     o << "\n";
   }
@@ -692,6 +713,9 @@ void scoreTrajectory(const std::string& file, const std::string& given) {
                                 ? given
                                 : truthPrefix(given) + ".gt.txt";
   const std::vector<TimedPose> estimate = readPoses(file), reference = readPoses(truth);
+  // Nothing to score is an error, not a table of n/a with exit status 0.
+  if (estimate.empty()) throw InputError(file + ": no pose (expected 'timestamp x y phi' lines)");
+  if (reference.empty()) throw InputError(truth + ": no pose (expected 'timestamp x y phi' lines)");
   const TrajectoryError e = trajectoryError(estimate, reference);
   std::cout << "dynamap eval: " << file << " against " << truth << ": " << e.matched
             << " poses scored, " << e.unmatched << " without truth; ATE RMSE position "

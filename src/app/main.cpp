@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "dynamap/base/ini.h"
+#include "dynamap/base/printable.h"
 
 namespace {
 
@@ -61,14 +62,14 @@ int main(int argc, char** argv) {
     try {
       return c.run(args);
     } catch (const UsageError& e) {
-      std::cerr << "dynamap " << name << ": " << e.what() << " (see dynamap " << name
+      std::cerr << "dynamap " << name << ": " << dynamap::printable(e.what()) << " (see dynamap " << name
                 << " --help)\n";
       return kExitUsage;
     } catch (const dynamap::ConfigError& e) {
-      std::cerr << "dynamap " << name << ": " << e.what() << "\n";
+      std::cerr << "dynamap " << name << ": " << dynamap::printable(e.what()) << "\n";
       return kExitConfig;
     } catch (const std::exception& e) {
-      std::cerr << "dynamap " << name << ": " << e.what() << "\n";
+      std::cerr << "dynamap " << name << ": " << dynamap::printable(e.what()) << "\n";
       return kExitError;
     }
   }

@@ -1,6 +1,9 @@
 // dynamap map: a log in, the static map, the dynamic map and their pictures out.
 
+#include <signal.h>
+
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <iomanip>
@@ -9,6 +12,7 @@
 
 #include "cli.h"
 #include "dynamap/base/ini.h"
+#include "dynamap/base/printable.h"
 #include "dynamap/input/fixed_pose.h"
 #include "dynamap/outputs/map_job.h"
 
@@ -46,7 +50,7 @@ void warnAboutSkips(const RunCounts& counts, const SourceStats& stats) {
     list += (list.empty() ? "" : ", ") + kv.first + " (" + std::to_string(kv.second) + ")";
   }
   if (total > 0) {
-    std::cerr << "dynamap map: warning: " << total << " scans skipped: " << list
+    std::cerr << "dynamap map: warning: " << total << " scans skipped: " << printable(list)
               << " (see summary.json)\n";
   }
   if (counts.time_backwards > 0) {
@@ -171,6 +175,22 @@ void reportRun(const MapJob& job, const MapJobResult& r) {
   }
 }
 
+// The signal that asked the run to stop (0: none). A handler may only set a flag: the run
+// checks it after each scan and leaves the output directory as it was.
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+void onStopSignal(int sig) { g_stop_signal = sig; }
+
+// SIGINT, SIGTERM and SIGHUP end the run cleanly; a second one of them acts at once (the
+// handler is reset when it runs).
+void catchStopSignals() {
+  struct sigaction sa {};
+  sa.sa_handler = onStopSignal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+}
+
 }  // namespace
 
 int runMap(const Args& args) {
@@ -186,14 +206,24 @@ int runMap(const Args& args) {
     if (show && pass == 1) std::cerr << "dynamap map: pass 1 of 2: the trajectory (slam)\n";
     if (show && pass == 2) std::cerr << "dynamap map: pass 2 of 2: mapping on its poses\n";
   };
-  const MapJobResult r = runMapJob(job);
+  catchStopSignals();
+  job.cancelled = [] { return g_stop_signal != 0; };
+  MapJobResult r;
+  try {
+    r = runMapJob(job);
+  } catch (const RunCancelled&) {
+    progress->finish();
+    std::cerr << "dynamap map: interrupted by signal " << g_stop_signal << "; " << job.out_dir
+              << " keeps the outputs it had\n";
+    return 128 + g_stop_signal;
+  }
   progress->finish();
   if (verbose || stderrIsTerminal()) reportRun(job, r);
   warnAboutSkips(r.counts, r.source_stats);
   if (!r.outcome.fault.empty()) {
     std::cerr << "dynamap map: warning: input ended in a fault, outputs cover the scans before "
                  "it: "
-              << r.outcome.fault << "\n";
+              << printable(r.outcome.fault) << "\n";
     return kExitPartialInput;
   }
   return kExitOk;

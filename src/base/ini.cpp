@@ -38,9 +38,9 @@ bool hasMrptDirective(const std::string& line) {
   for (const char* d : {"#define", "#undef", "#if", "#else", "#endif", "@include"}) {
     if (t.rfind(d, 0) == 0) return true;
   }
-  const std::string code = t.substr(0, t.find_first_of(";#"));
-  return code.find("${") != std::string::npos || code.find("$env{") != std::string::npos ||
-         code.find("$eval{") != std::string::npos;
+  // MRPT expands them anywhere on the line, comments included.
+  return t.find("${") != std::string::npos || t.find("$env{") != std::string::npos ||
+         t.find("$eval{") != std::string::npos;
 }
 
 // One line of an ini file: blank, a comment, [section] or key = value. Records keys per section

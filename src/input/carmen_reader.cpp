@@ -15,6 +15,7 @@
 #include <set>
 
 #include "dynamap/base/ini.h"
+#include "dynamap/input/line_reader.h"
 
 namespace dynamap {
 
@@ -320,66 +321,17 @@ mrpt::obs::CObservation2DRangeScan::Ptr makeScan(const CarmenLaser& laser,
 
 // --- streaming -------------------------------------------------------------------------------
 
-/// Lines of a plain or gz file, read in blocks, each capped in length.
-struct CarmenReader::LineInput {
-  mrpt::io::CFileGZInputStream in;
-  std::vector<char> buf = std::vector<char>(kReadBlock);
-  std::size_t pos = 0, len = 0;
-  std::size_t line_no = 0;  // of the last line returned
-
-  /// The next line without its end of line; false at the end of the file.
-  bool getline(std::string& line, const std::string& path, std::size_t max_len) {
-    line.clear();
-    bool got_any = false;
-    while (true) {
-      if (pos == len && !refill(path)) {
-        if (got_any) ++line_no;
-        return got_any;
-      }
-      got_any = true;
-      const char* start = buf.data() + pos;
-      const void* nl = std::memchr(start, '\n', len - pos);
-      const std::size_t take = nl ? static_cast<const char*>(nl) - start : len - pos;
-      if (line.size() + take > max_len) {
-        throw InputError(path + ":" + std::to_string(line_no + 1) + ": line longer than " +
-                         std::to_string(max_len) + " bytes");
-      }
-      line.append(start, take);
-      pos += take;
-      if (nl) {
-        ++pos;
-        ++line_no;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        return true;
-      }
-    }
-  }
-
-  bool refill(const std::string& path) {
-    try {
-      len = in.Read(buf.data(), buf.size());
-    } catch (const std::exception& e) {
-      throw InputError(path + ": read error after line " + std::to_string(line_no) + ": " +
-                       e.what());
-    }
-    pos = 0;
-    return len > 0;
-  }
+/// Lines of a plain or gz file, read in blocks, each capped in length (LineReader).
+struct CarmenReader::LineInput : LineReader {
+  using LineReader::LineReader;
 };
 
 CarmenReader::CarmenReader(const std::string& path, const CarmenOptions& options)
-    : path_(path), options_(options), input_(std::make_unique<LineInput>()) {
-  // MRPT throws (with a backtrace) for a missing file: say it plainly instead.
+    : path_(path), options_(options) {
+  // A missing file is said plainly (not MRPT's backtrace); a fifo or device is not a log file.
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
-  std::string error;
-  bool opened = false;
-  try {
-    opened = input_->in.open(path, error);
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  if (!opened) throw InputError(path + ": cannot open (" + error + ")");
+  input_ = std::make_unique<LineInput>(path, options.max_line_length);
   text_size_ = static_cast<double>(uncompressedSize(path));
 }
 
@@ -387,18 +339,21 @@ CarmenReader::~CarmenReader() = default;
 
 double CarmenReader::fractionRead() const {
   if (text_size_ == 0) return -1.0;
-  return std::min(1.0, static_cast<double>(input_->in.getPosition()) / text_size_);
+  return std::min(1.0, static_cast<double>(input_->position()) / text_size_);
 }
 
 bool CarmenReader::next(CarmenEvent& out) {
   std::string line;
-  while (input_->getline(line, path_, options_.max_line_length)) {
+  while (input_->next(line)) {
     ++stats_.records;
     try {
+      if (line.find('\0') != std::string::npos) {
+        throw CarmenParseError("a NUL byte: not a line of text");
+      }
       if (handleLine(line, out)) return true;
     } catch (const CarmenParseError& e) {
       if (!options_.skip_bad_lines) {
-        throw InputError(path_ + ":" + std::to_string(input_->line_no) + ": " + e.what());
+        throw InputError(path_ + ":" + std::to_string(input_->lineNumber()) + ": " + e.what());
       }
       skip("bad line");
     }
@@ -421,7 +376,7 @@ bool CarmenReader::handleLine(const std::string& line, CarmenEvent& out) {
     last_odometry_ = mrpt::poses::CPose2D(parsed.odometry->pose);
     out = CarmenEvent{};
     out.kind = CarmenEvent::Kind::Odometry;
-    out.line = input_->line_no;
+    out.line = input_->lineNumber();
     out.t = parsed.odometry->t;
     out.odometry = last_odometry_;
     out.tv = parsed.odometry->tv;
@@ -432,7 +387,7 @@ bool CarmenReader::handleLine(const std::string& line, CarmenEvent& out) {
     const CarmenLaser& laser = *parsed.laser;
     out = CarmenEvent{};
     out.kind = CarmenEvent::Kind::Scan;
-    out.line = input_->line_no;
+    out.line = input_->lineNumber();
     out.t = laser.t;
     out.scan = makeScan(laser, params_, options_);
     out.pose = mrpt::poses::CPose2D(laser.pose);
@@ -467,7 +422,9 @@ bool looksLikeCarmen(const std::string& path) {
   } catch (const std::exception&) {
     return false;
   }
-  if (head.empty() || head.find('\0') != std::string::npos) return false;
+  if (head.empty()) return false;
+  // Told by the first line that is not blank or a comment; a NUL byte later in the file is a
+  // fault of that line (CarmenReader), wherever it is.
   std::size_t pos = 0;
   while (pos < head.size()) {
     std::size_t end = head.find('\n', pos);
@@ -475,6 +432,7 @@ bool looksLikeCarmen(const std::string& path) {
     if (!complete) end = head.size();
     const std::string line = head.substr(pos, end - pos);
     pos = end + 1;
+    if (line.find('\0') != std::string::npos) return false;  // binary from its start
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     const auto word_end = line.find_first_of(" \t\r", first);

@@ -1,5 +1,7 @@
 #include "dynamap/input/open_source.h"
 
+#include <filesystem>
+
 #include "dynamap/input/fixed_pose.h"
 #include "dynamap/input/mrpt_records.h"
 #include "dynamap/input/pose_file.h"
@@ -66,7 +68,15 @@ std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource sour
 }  // namespace
 
 std::unique_ptr<ScanSource> openScanSource(const std::string& path, const InputOptions& options) {
-  if (!fileExists(path)) throw InputError(path + ": no such file");
+  // Before any reader opens it: a fifo would block, /dev/null or a directory reach MRPT's
+  // exceptions. Logs are files (a reader may open one twice: format, then data, or two passes).
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(st)) throw InputError(path + ": no such file");
+  if (std::filesystem::is_directory(st)) throw InputError(path + ": is a directory, not a log");
+  if (!std::filesystem::is_regular_file(st)) {
+    throw InputError(path + ": not a regular file (a fifo, device or socket); give a log file");
+  }
   PoseSource source = options.poses;
   if (source == PoseSource::ScanMatching) source = PoseSource::Odometry;  // corrected by Mapper
   const bool slam = source == PoseSource::Slam;  // odometry, turned into poses by the pipeline

@@ -1,9 +1,9 @@
 #include "dynamap/input/pose_file.h"
 
-#include <fstream>
 #include <sstream>
 
 #include "dynamap/base/ini.h"
+#include "dynamap/input/line_reader.h"
 #include "dynamap/input/scan_source.h"
 
 namespace dynamap {
@@ -26,11 +26,11 @@ std::string companionGroundTruth(const std::string& path) {
 }
 
 std::vector<TimedPose> readPoseFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open pose file");
+  LineReader in(path);  // every line capped: a pose file of /dev/zero is an error, not 13 GB
   std::vector<TimedPose> poses;
   std::string line;
-  for (std::size_t line_no = 1; std::getline(in, line); ++line_no) {
+  while (in.next(line)) {
+    const std::size_t line_no = in.lineNumber();
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#' || line[first] == '%') continue;
     std::istringstream fields(line);

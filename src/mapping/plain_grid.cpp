@@ -1,5 +1,6 @@
 #include "dynamap/mapping/plain_grid.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace dynamap {
@@ -9,16 +10,54 @@ PlainGrid::PlainGrid(const DynamicMapOptions& map, const InsertionOptions& inser
 
 PlainGrid::PlainGrid(const DynamicMapOptions& map, const InsertionOptions& insertion, float x_min,
                      float x_max, float y_min, float y_max)
-    : grid_(x_min, x_max, y_min, y_max, static_cast<float>(map.resolution)) {
+    : grid_(x_min, x_max, y_min, y_max, static_cast<float>(map.resolution)),
+      max_size_m_(map.max_map_size_m + 2 * insertion.max_distance_insertion),
+      reach_m_(insertion.max_distance_insertion),
+      horizontal_tolerance_(insertion.horizontal_tolerance_deg * M_PI / 180.0) {
   auto& o = grid_.insertionOptions;
   o.maxDistanceInsertion = static_cast<float>(insertion.max_distance_insertion);
   o.considerInvalidRangesAsFreeSpace = insertion.invalid_ranges_as_free;
   o.horizontalTolerance = static_cast<float>(insertion.horizontal_tolerance_deg * M_PI / 180.0);
 }
 
-void PlainGrid::insert(const mrpt::obs::CObservation2DRangeScan& scan,
+namespace {
+
+bool finitePose(const mrpt::poses::CPose2D& p) {
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi());
+}
+
+bool badRange(float r) { return !std::isfinite(r) || r < 0.0f; }
+
+}  // namespace
+
+bool PlainGrid::withinBound(const mrpt::poses::CPose2D& sensor) const {
+  const double x_min = std::min<double>(grid_.getXMin(), sensor.x() - reach_m_);
+  const double x_max = std::max<double>(grid_.getXMax(), sensor.x() + reach_m_);
+  const double y_min = std::min<double>(grid_.getYMin(), sensor.y() - reach_m_);
+  const double y_max = std::max<double>(grid_.getYMax(), sensor.y() + reach_m_);
+  return x_max - x_min <= max_size_m_ && y_max - y_min <= max_size_m_;
+}
+
+bool PlainGrid::insert(const mrpt::obs::CObservation2DRangeScan& scan,
                        const mrpt::poses::CPose2D& pose) {
-  grid_.insertObservation(scan, mrpt::poses::CPose3D(pose));
+  const std::size_t n = scan.getScanSize();
+  if (n == 0 || !finitePose(pose) || !scan.isPlanarScan(horizontal_tolerance_)) return false;
+  if (!(scan.aperture > 0.0f) || !std::isfinite(scan.aperture)) return false;
+  const mrpt::poses::CPose3D robot(pose);
+  const mrpt::poses::CPose2D sensor(robot + scan.sensorPose);
+  if (!finitePose(sensor) || !withinBound(sensor)) return false;
+  const mrpt::obs::CObservation2DRangeScan* use = &scan;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!badRange(scan.getScanRange(i))) continue;
+    if (use == &scan) {  // copied only when a beam needs mending
+      clean_ = scan;
+      use = &clean_;
+    }
+    clean_.setScanRange(i, 0.0f);
+    clean_.setScanRangeValidity(i, false);
+  }
+  grid_.insertObservation(*use, robot);
+  return true;
 }
 
 PlainComparison comparePlain(const DynamicGridMap& map,

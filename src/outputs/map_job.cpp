@@ -8,6 +8,7 @@
 
 #include "dynamap/input/open_source.h"
 #include "dynamap/outputs/map_outputs.h"
+#include "dynamap/outputs/output_staging.h"
 #include "dynamap/outputs/render.h"
 #include "dynamap/outputs/run_outputs.h"
 #include "dynamap/outputs/tables.h"
@@ -55,8 +56,8 @@ void writeTimelapse(const std::string& out_dir, const std::string& frames_dir) {
 
 // What runs beside the mapper for each scan: the streamed files, the baseline, the frames.
 struct Writers {
-  Writers(const MapJob& job)
-      : tracks(job.out_dir), people(job.out_dir), poses(job.out_dir), frames_dir(job.out_dir + "/frames") {
+  Writers(const MapJob& job, const std::string& dir)
+      : tracks(dir), people(dir), poses(dir), frames_dir(dir + "/frames") {
     if (job.baseline) baseline = std::make_unique<PlainGrid>(job.config.map, job.config.insertion);
     if (job.frames_every > 0) prepareOutputDir(frames_dir);
   }
@@ -68,8 +69,12 @@ struct Writers {
   std::string frames_dir;
 };
 
-void afterScan(const MapJob& job, const Mapper& mapper, Writers& w, const ScanRecord& rec) {
-  if (w.baseline) {  // timed on its own, so both runs' speeds can be reported
+void afterScan(const MapJob& job, const Mapper& mapper, Writers& w, const ScanRecord& rec,
+               const ScanResult& result) {
+  // The baseline sees exactly the scans the mapper inserted, at the pose it used (rec's, after
+  // scan matching): a scan the mapper skipped (a pose past max_map_size_m, no usable beam) is
+  // skipped by both, so the two maps compare like with like and a file bounds both alike.
+  if (w.baseline && result.inserted) {  // timed on its own, so both speeds can be reported
     const auto t0 = Clock::now();
     w.baseline->insert(*rec.scan, rec.pose);
     w.baseline_time += Clock::now() - t0;
@@ -82,6 +87,10 @@ void afterScan(const MapJob& job, const Mapper& mapper, Writers& w, const ScanRe
   }
 }
 
+void stopIfCancelled(const MapJob& job) {
+  if (job.cancelled && job.cancelled()) throw RunCancelled("the run was interrupted");
+}
+
 /// Pose source slam, pass 1: the whole trajectory, then `source` replaced by pass 2's (the log
 /// opened again, each scan's pose the optimised one) and `config` saying slam.
 std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
@@ -89,6 +98,7 @@ std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
   if (job.on_pass) job.on_pass(1);
   ScanSource& first = *source;
   auto run = std::make_unique<SlamRun>(estimateTrajectory(first, config, [&](std::size_t done) {
+    stopIfCancelled(job);
     if (job.progress) job.progress(first.fractionRead(), done);
   }));
   config.poses = PoseSource::Slam;  // config.ini says what ran
@@ -101,10 +111,9 @@ std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
   return run;
 }
 
-}  // namespace
-
-MapJobResult runMapJob(const MapJob& job) {
-  prepareOutputDir(job.out_dir);  // before any work: an unwritable directory fails fast
+// The run with every output written into `stage`, committed at the end.
+MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
+  const std::string& dir = stage.path();
   InputOptions input;
   input.poses = job.config.poses;
   input.fixed_pose = job.config.fixed_pose;
@@ -115,11 +124,12 @@ MapJobResult runMapJob(const MapJob& job) {
   std::unique_ptr<SlamRun> slam;
   if (usesSlam(config.poses, *source)) slam = slamPass(job, config, source);
   Mapper mapper(config);
-  Writers w(job);
+  Writers w(job, dir);
   const auto start = Clock::now();
   MapJobResult r;
-  r.outcome = runMapping(*source, mapper, [&](const ScanRecord& rec, const ScanResult&) {
-    afterScan(job, mapper, w, rec);
+  r.outcome = runMapping(*source, mapper, [&](const ScanRecord& rec, const ScanResult& result) {
+    stopIfCancelled(job);
+    afterScan(job, mapper, w, rec, result);
     if (job.progress) job.progress(source->fractionRead(), mapper.counts().scans_used);
   });
   w.tracks.finish();
@@ -129,9 +139,11 @@ MapJobResult runMapJob(const MapJob& job) {
   r.baseline_wall_s = std::chrono::duration<double>(w.baseline_time).count();
   r.wall_s = secondsSince(start) - r.baseline_wall_s;
   writeMapOutputs(
-      job.out_dir, mapper, *source,
+      dir, mapper, *source,
       {job.input, r.wall_s, r.outcome, w.baseline.get(), r.baseline_wall_s, slam.get()});
-  if (job.frames_every > 0) writeTimelapse(job.out_dir, w.frames_dir);
+  if (job.frames_every > 0) writeTimelapse(dir, w.frames_dir);
+  stopIfCancelled(job);  // a signal while the files were written: keep the previous set
+  stage.commit();
   r.pose_source = mapper.poseSourceName(*source);
   r.counts = mapper.counts();
   r.source_stats = source->stats();
@@ -144,6 +156,31 @@ MapJobResult runMapJob(const MapJob& job) {
     if (job.on_pass) job.on_pass(0);
   }
   return r;
+}
+
+}  // namespace
+
+MapJobResult runMapJob(const MapJob& job) {
+  // Before any work: an unwritable or busy directory fails fast. Every output goes into the
+  // staging directory and replaces the previous run's set only once all are written.
+  OutputStaging stage(job.out_dir);
+  try {
+    return runStaged(job, stage);
+  } catch (const RunCancelled&) {
+    throw;
+  } catch (const InputError&) {
+    throw;
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    // A write error names the staging directory, which is gone: name the file as the user
+    // knows it.
+    std::string m = e.what();
+    for (auto at = m.find(stage.path()); at != std::string::npos; at = m.find(stage.path())) {
+      m.replace(at, stage.path().size(), job.out_dir);
+    }
+    throw std::runtime_error(m);
+  }
 }
 
 }  // namespace dynamap

@@ -4,7 +4,9 @@
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -34,7 +36,10 @@ void writeFileAtomically(const std::string& dir, const std::string& name,
   const std::string tmp = tempName(dir, name);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write");
+    if (!out) {
+      throw std::runtime_error((fs::path(dir) / name).string() + ": cannot write (" +
+                               std::strerror(errno) + ")");
+    }
     try {
       write(out);
     } catch (...) {  // a writer that fails leaves no temporary behind
@@ -45,9 +50,11 @@ void writeFileAtomically(const std::string& dir, const std::string& name,
     }
     out.flush();
     if (!out) {
+      const int err = errno;  // ENOSPC on a full disk
       std::error_code ec;
       fs::remove(tmp, ec);
-      throw std::runtime_error((fs::path(dir) / name).string() + ": write failed");
+      throw std::runtime_error((fs::path(dir) / name).string() + ": write failed (" +
+                               std::strerror(err) + ")");
     }
   }
   commit(tmp, dir, name);
@@ -136,38 +143,6 @@ void prepareOutputDir(const std::string& dir) {
     if (!out) throw std::runtime_error(dir + ": output directory is not writable");
   }
   fs::remove(probe, ec);
-}
-
-std::string jsonString(const std::string& s) {
-  std::ostringstream o;
-  o << '"';
-  for (const unsigned char c : s) {
-    switch (c) {
-      case '"':
-        o << "\\\"";
-        break;
-      case '\\':
-        o << "\\\\";
-        break;
-      case '\n':
-        o << "\\n";
-        break;
-      case '\t':
-        o << "\\t";
-        break;
-      case '\r':
-        o << "\\r";
-        break;
-      default:
-        if (c < 0x20) {
-          o << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(c) << std::dec;
-        } else {
-          o << c;
-        }
-    }
-  }
-  o << '"';
-  return o.str();
 }
 
 }  // namespace dynamap

@@ -1,6 +1,8 @@
 #include "dynamap/outputs/tables.h"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <ostream>
 
@@ -13,7 +15,9 @@ StreamedFile::StreamedFile(const std::string& dir, const std::string& name,
                            const std::string& header)
     : dir_(dir), name_(name), tmp_(tempName(dir, name)) {
   out_ = std::make_unique<std::ofstream>(tmp_, std::ios::binary | std::ios::trunc);
-  if (!*out_) throw std::runtime_error(dir + "/" + name + ": cannot write");
+  if (!*out_) {
+    throw std::runtime_error(dir + "/" + name + ": cannot write (" + std::strerror(errno) + ")");
+  }
   *out_ << header;
 }
 
@@ -27,11 +31,12 @@ StreamedFile::~StreamedFile() {
 void StreamedFile::finish() {
   out_->flush();
   const bool ok = static_cast<bool>(*out_);
+  const int err = errno;  // ENOSPC on a full disk
   out_.reset();
   if (!ok) {
     std::error_code ec;
     std::filesystem::remove(tmp_, ec);
-    throw std::runtime_error(dir_ + "/" + name_ + ": cannot write");
+    throw std::runtime_error(dir_ + "/" + name_ + ": write failed (" + std::strerror(err) + ")");
   }
   commit(tmp_, dir_, name_);
 }

@@ -51,9 +51,12 @@ std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& 
                                      int guard) {
   std::vector<HitPoint2> out;
   for (const HitPoint2& p : hits.points) {
+    // Off the grid S knows nothing there. Compared as coordinates first: a far point's cell
+    // index does not fit an int (converting it is undefined).
+    if (!(p.x >= map.getXMin() && p.x < map.getXMax() && p.y >= map.getYMin() &&
+          p.y < map.getYMax()))
+      continue;
     const int cx = map.x2idx(p.x), cy = map.y2idx(p.y);
-    // Off the grid S knows nothing there (and a far point's index, near INT_MIN, would overflow
-    // with the guard added).
     if (cx < 0 || cy < 0 || cx >= static_cast<int>(map.getSizeX()) ||
         cy >= static_cast<int>(map.getSizeY()))
       continue;

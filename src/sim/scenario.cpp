@@ -83,6 +83,13 @@ int integer(const IniFile& ini, const std::string& s, const std::string& k, doub
 
 // ---- sections -----------------------------------------------------------------------------
 
+// Bounds of what a scenario may ask for (a file is not trusted to be reasonable).
+constexpr double kMaxDurationS = 86400;
+constexpr double kMaxScans = 1e6;
+constexpr double kMaxBeamSamples = 1e9;
+constexpr std::uintmax_t kMaxImageBytes = std::uintmax_t{64} << 20;
+constexpr std::size_t kMaxImageSide = 16384;
+
 void readScenarioSection(const IniFile& ini, Scenario& sc) {
   const std::string s = "scenario";
   ini.requireKnownKeys(s, {"name", "duration_s", "seed"});
@@ -93,6 +100,7 @@ void readScenarioSection(const IniFile& ini, Scenario& sc) {
   if (!safe) ini.fail(s, "name", "'" + sc.name + "' must be letters, digits, '_' or '-'");
   if (!ini.hasKey(s, "duration_s")) ini.fail(s, "duration_s", "missing (required)");
   sc.duration_s = positive(ini, s, "duration_s", ini.getDouble(s, "duration_s", 0));
+  if (sc.duration_s > kMaxDurationS) ini.fail(s, "duration_s", fmt(sc.duration_s) + " must be <= 86400 (a day)");
   const long seed = ini.getInt(s, "seed", 1);
   if (seed < 0) ini.fail(s, "seed", "must be >= 0");
   sc.seed = static_cast<std::uint64_t>(seed);
@@ -100,9 +108,21 @@ void readScenarioSection(const IniFile& ini, Scenario& sc) {
 
 WallGrid loadWallImage(const IniFile& ini, const std::string& path) {
   const std::string s = "world";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec) ||
+      std::filesystem::file_size(path, ec) > kMaxImageBytes) {
+    // /dev/zero, a fifo or a directory would reach OpenCV: refused by name first.
+    ini.fail(s, "map_image", "'" + path + "' is not an image file of at most 64 MiB");
+  }
   mrpt::img::CImage img;
-  if (!std::filesystem::exists(path) || !img.loadFromFile(path, 0)) {
-    ini.fail(s, "map_image", "cannot read image '" + path + "'");
+  bool loaded = false;
+  try {
+    loaded = img.loadFromFile(path, 0);
+  } catch (const std::exception&) {  // OpenCV's own exceptions for a corrupt file
+  }
+  if (!loaded) ini.fail(s, "map_image", "cannot read image '" + path + "'");
+  if (img.getWidth() > kMaxImageSide || img.getHeight() > kMaxImageSide) {
+    ini.fail(s, "map_image", "'" + path + "' is larger than 16384 pixels on a side");
   }
   if (img.isColor()) img = img.grayscale();
   WallGrid g;
@@ -160,6 +180,7 @@ void readRobotSection(const IniFile& ini, Scenario& sc) {
       positive(ini, s, "turn_rate_dps", ini.getDouble(s, "turn_rate_dps", r.turn_rate_dps));
   r.scan_rate_hz =
       positive(ini, s, "scan_rate_hz", ini.getDouble(s, "scan_rate_hz", r.scan_rate_hz));
+  if (r.scan_rate_hz > 1000) ini.fail(s, "scan_rate_hz", fmt(r.scan_rate_hz) + " must be <= 1000");
   const std::size_t n = r.waypoints.size();
   for (std::size_t i = 0; n > 1 && i < (r.loop ? n : n - 1); ++i) {
     if (distance(r.waypoints[i], r.waypoints[(i + 1) % n]) == 0) {
@@ -433,6 +454,14 @@ Scenario parseScenario(const IniFile& ini, const std::string& base_dir) {
   checkRoute(ini, sc);
   checkObjects(ini, sc);
   checkPeople(ini, sc);
+  // The run a file asks for is bounded before it starts: at most a million scans and a
+  // thousand million beams (a rawlog of some 5 GB).
+  const double scans = sc.duration_s * sc.robot.scan_rate_hz;
+  if (scans > kMaxScans || scans * sc.laser.beams > kMaxBeamSamples) {
+    ini.fail("scenario", "duration_s",
+             fmt(scans) + " scans of " + std::to_string(sc.laser.beams) +
+                 " beams (duration_s x scan_rate_hz x beams) exceed 1e6 scans or 1e9 beams");
+  }
   return sc;
 }
 

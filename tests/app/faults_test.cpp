@@ -11,6 +11,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -260,8 +261,55 @@ TEST(Faults, APoseJumpBeyondMaxMapSizeIsSkippedAndCountedNotAllocated) {
   EXPECT_EQ(summaryNumber(summary, "beyond max_map_size_m"), 1) << summary;
   EXPECT_EQ(summaryNumber(summary, "used"), 19) << summary;
   // The grid still has its initial 20 x 20 m (400 cells at 5 cm), nothing of the jump.
-  EXPECT_NE(summary.find("\"size_cells\": [400, 400]"), std::string::npos) << summary;
+  EXPECT_EQ(nlohmann::json::parse(summary)["map"]["size_cells"], nlohmann::json::array({400, 400}))
+      << summary;
   EXPECT_NE(out.find("beyond max_map_size_m"), std::string::npos) << out;
+}
+
+// The plain MRPT grid (on by default) once took every scan the mapper skipped: a pose 5,000 km
+// away or a NaN range crashed the run (SIGSEGV after gigabytes) and lost every output.
+TEST(Faults, TheBaselineSeesOnlyTheScansTheMapperInserted) {
+  const std::string dir = test::tempDir("baseline");
+  auto steps = roomSteps();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  steps[10].pose = CPose2D(5.0e6, -3.0e6, 0.0);
+  setBeams(steps[3], 0, 5, nan);
+  setBeams(steps[5], 10, 3, -std::numeric_limits<float>::infinity());
+  setBeams(steps[13], 0, 61, nan);
+  test::writeObsRawlog(dir + "/bad.rawlog", steps);
+  std::string out;
+  ASSERT_EQ(test::run(kExe + " map --input " + dir + "/bad.rawlog --out " + dir + "/o", &out), 0)
+      << out;
+  const std::string summary = test::readFile(dir + "/o/summary.json");
+  EXPECT_EQ(summaryNumber(summary, "beyond max_map_size_m"), 1) << summary;
+  EXPECT_EQ(summaryNumber(summary, "no usable beam"), 1) << summary;
+  EXPECT_EQ(summaryNumber(summary, "used"), 18) << summary;
+  EXPECT_NE(summary.find("\"mrpt_baseline\""), std::string::npos) << summary;
+  EXPECT_TRUE(fs::exists(dir + "/o/mrpt_plain.png"));
+  // A CARMEN line with a pose of 1e9 m, the smallest input that crashed it.
+  const std::string carmen = kSrc + "/tests/fuzz_regressions/baseline/carmen_pose_of_1e9_m.log";
+  ASSERT_EQ(test::run(kExe + " map --input " + carmen + " --out " + dir + "/c", &out), 0) << out;
+  EXPECT_EQ(summaryNumber(test::readFile(dir + "/c/summary.json"), "beyond max_map_size_m"), 1);
+  EXPECT_TRUE(fs::exists(dir + "/c/mrpt_plain.png"));
+}
+
+// A line type of bytes that are not UTF-8, with a terminal escape in front: summary.json stays
+// valid JSON and the terminal gets the bytes written out, not obeyed.
+TEST(Faults, BytesFromTheFileAreEscapedInSummaryJsonAndOnTheTerminal) {
+  const std::string dir = test::tempDir("bytes");
+  const std::string log = test::readFile(kSrc + "/tests/fuzz_regressions/baseline/carmen_pose_of_1e9_m.log");
+  const std::string first_line = log.substr(0, log.find('\n') + 1);
+  writeBytes(dir + "/b.log", first_line + "\x1b[31m\xff\xfe" "FLASER 1 2 3\n" + first_line);
+  std::string out;
+  ASSERT_EQ(map("--input " + dir + "/b.log --out " + dir + "/o", &out), 0) << out;
+  EXPECT_EQ(out.find('\x1b'), std::string::npos) << out;
+  EXPECT_NE(out.find("\\x1b[31m\\xff\\xfeFLASER"), std::string::npos) << out;
+  const auto json = nlohmann::json::parse(test::readFile(dir + "/o/summary.json"));
+  EXPECT_EQ(json["scans"]["used"], 2);
+  ASSERT_EQ(json["scans"]["skipped_by_reason"].size(), 1u) << json.dump();
+  // What is not UTF-8 becomes U+FFFD; the escape character is \u001b in JSON.
+  EXPECT_EQ(json["scans"]["skipped_by_reason"].begin().key(),
+            "line type \x1b[31m\xef\xbf\xbd\xef\xbf\xbd" "FLASER");
 }
 
 TEST(Faults, MissingPosesAreAnErrorNamingTheFirstScanWithoutOne) {
@@ -406,7 +454,9 @@ TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
       {"scenario", fuzz::scenarioInput},
       {"carmen", fuzz::carmenInput},
       {"rawlog", fuzz::rawlogInput},
-      {"bag", fuzz::bagInput}};
+      {"bag", fuzz::bagInput},
+      {"baseline", fuzz::baselineInput},
+      {"config", fuzz::configInput}};
   std::size_t files = 0;
   for (const auto& [name, entry] : targets) {
     const fs::path dir = fs::path(kSrc) / "tests/fuzz_regressions" / name;

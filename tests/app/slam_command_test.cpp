@@ -7,6 +7,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -91,7 +92,7 @@ TEST_F(SlamLoop, LoopClosureRemovesTheOdometryDrift) {
   const std::string summary = test::readFile(*dir_ + "/a/summary.json");
   EXPECT_NE(summary.find("\"pose_source\": \"slam\""), std::string::npos);
   EXPECT_NE(summary.find("\"converged\": true"), std::string::npos);
-  EXPECT_EQ(summary.find("\"loop_closures\": {\"proposed\": 0"), std::string::npos);
+  EXPECT_GT(nlohmann::json::parse(summary)["slam"]["loop_closures"]["proposed"].get<int>(), 0);
   EXPECT_NE(test::readFile(*dir_ + "/a/config.ini").find("[slam]"), std::string::npos);
 }
 

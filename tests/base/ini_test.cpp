@@ -71,6 +71,7 @@ TEST(IniFile, AKeyGivenTwiceIsAnErrorNotASilentOverride) {
 
 TEST(IniFile, ValuesAreLiteralMrptExpansionsAreRefused) {
   for (const char* text : {"[a]\nx = ${HOME}\n", "[a]\nx = $env{HOME}\n", "[a]\nx = $eval{1+1}\n",
+                           "[a]\nx = 1 ; MRPT expands $eval{ even in a comment\n",
                            "#define X 1\n[a]\nx = 1\n", "@include other.ini\n"}) {
     EXPECT_NE(errorOf([&] { ini(text); }).find("not supported: values are literal"),
               std::string::npos)

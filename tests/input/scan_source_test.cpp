@@ -22,6 +22,8 @@
 namespace dynamap {
 namespace {
 
+namespace fs = std::filesystem;
+
 using mrpt::poses::CPose2D;
 
 // Ten scans 0.2 s apart, the robot driving along x.
@@ -92,6 +94,24 @@ TEST(ScanSource, CompanionGroundTruthFileIsInterpolatedByTime) {
   ASSERT_EQ(recs.size(), 10u);
   EXPECT_NEAR(recs[0].pose.x(), 1.0, 1e-6);   // t = 1000.0: a tenth of the way
   EXPECT_NEAR(recs[5].pose.x(), 11.0, 1e-6);  // t = 1001.0
+}
+
+// A companion file that is /dev/zero, or holds one line of 3 MB: an error naming it, read no
+// further than the line cap (it once read 13 GB of /dev/zero, 1.3 GB of a 300 MB line).
+TEST(ScanSource, ACompanionGroundTruthFileIsReadWithItsLinesCapped) {
+  const std::string dir = test::tempDir("src");
+  test::writeObsRawlog(dir + "/z.rawlog", tenSteps(), /*with_gt=*/false);
+  fs::create_symlink("/dev/zero", dir + "/z.gt.txt");
+  EXPECT_NE(inputError([&] {
+              openScanSource(dir + "/z.rawlog", PoseSource::GroundTruth);
+            }).find("z.gt.txt:1: line longer than 1048576 bytes"),
+            std::string::npos);
+  test::writeObsRawlog(dir + "/l.rawlog", tenSteps(), /*with_gt=*/false);
+  std::ofstream(dir + "/l.gt.txt") << "999.9 0 0 0\n1000 1 " << std::string(3 << 20, '1') << "\n";
+  EXPECT_NE(inputError([&] {
+              openScanSource(dir + "/l.rawlog", PoseSource::GroundTruth);
+            }).find("l.gt.txt:2: line longer than"),
+            std::string::npos);
 }
 
 TEST(ScanSource, ActionSensoryFrameRawlogIntegratesOdometry) {

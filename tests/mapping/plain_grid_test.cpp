@@ -62,5 +62,39 @@ TEST(PlainGrid, AStaticSceneHasNothingThatMoved) {
   EXPECT_GT(c.both_occupied, 20u);
 }
 
+// What a corrupt file can put in a scan: a pose 1e9 m away, non-finite poses, NaN, infinite
+// and negative ranges. MRPT's own insertion turns such values into cell indices (a crash, or a
+// grid of gigabytes); PlainGrid refuses the scan or mends the beams first.
+TEST(PlainGrid, AFarPoseIsRefusedAndTheGridKeepsItsSize) {
+  PlainGrid plain{DynamicMapOptions{}, InsertionOptions{}};
+  const auto scan = wallScan(false);
+  EXPECT_FALSE(plain.insert(*scan, CPose2D(1e9, 1e9, 0)));
+  EXPECT_FALSE(plain.insert(*scan, CPose2D(std::nan(""), 0, 0)));
+  EXPECT_FALSE(plain.insert(*scan, CPose2D(0, 0, INFINITY)));
+  // max_map_size_m 600 plus 15 m of insertion range on each side: 630 m in all.
+  EXPECT_FALSE(plain.insert(*scan, CPose2D(621, 0, 0)));
+  EXPECT_EQ(plain.grid().getSizeX(), 400u);  // [-10, 10] m at 5 cm, as constructed
+  EXPECT_TRUE(plain.insert(*scan, CPose2D(300, 0, 0)));
+  EXPECT_GT(plain.grid().getSizeX(), 400u);
+}
+
+TEST(PlainGrid, BadBeamsAreNoEchoesAndTheRestIsInserted) {
+  PlainGrid mended{DynamicMapOptions{}, InsertionOptions{}};
+  PlainGrid clean{DynamicMapOptions{}, InsertionOptions{}};
+  auto scan = wallScan(false);
+  clean.insert(*scan, CPose2D(0, 0, 0));
+  // The same scan with three beams no sensor could measure, marked valid.
+  scan->setScanRange(10, std::nanf(""));
+  scan->setScanRange(90, -1.0f);
+  scan->setScanRange(170, INFINITY);
+  EXPECT_TRUE(mended.insert(*scan, CPose2D(0, 0, 0)));
+  EXPECT_EQ(mended.grid().getSizeX(), clean.grid().getSizeX());
+  EXPECT_EQ(mended.grid().getSizeY(), clean.grid().getSizeY());
+  // Every other beam's wall cell is there: the wall ahead, at x = 1 m.
+  const auto& g = mended.grid();
+  EXPECT_LT(g.getCell(g.x2idx(0.99), g.y2idx(0.3)), 0.5f);
+  EXPECT_FALSE(std::isfinite(scan->getScanRange(10)));  // the caller's scan untouched
+}
+
 }  // namespace
 }  // namespace dynamap

@@ -10,7 +10,8 @@
 namespace dynamap {
 
 /// Every pose of `path`, in file order. Throws InputError naming the file and line of the first
-/// line that is not four numbers, or when the file cannot be opened.
+/// line that is not four numbers or is longer than LineReader::kMaxLineBytes, or when the file
+/// cannot be opened (a gz file is read inflated).
 std::vector<TimedPose> readPoseFile(const std::string& path);
 
 /// MRPT's companion ground-truth file of a rawlog: <log without .rawlog[.gz]>.gt.txt.

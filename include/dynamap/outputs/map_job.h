@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "dynamap/input/bag_source.h"
@@ -17,9 +18,17 @@
 
 namespace dynamap {
 
+/// Thrown by runMapJob when MapJob::cancelled said so: nothing of the run was committed.
+class RunCancelled : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct MapJob {
-  std::string input;    ///< the log
-  std::string out_dir;  ///< created if needed; must be writable (checked before any work)
+  std::string input;  ///< the log
+  /// Created if needed; must be writable and not in use by another run (checked before any
+  /// work). The run's outputs replace the previous run's there as one set (OutputStaging).
+  std::string out_dir;
   MapConfig config;
   CarmenOptions carmen;   ///< for CARMEN input
   BagOptions bag;         ///< for ROS bag input
@@ -31,6 +40,9 @@ struct MapJob {
   /// Pose source slam: called when pass `pass` (1: the trajectory, 2: the mapping) begins, and
   /// with pass 0 when both are done; `progress` then reports each pass. May be empty.
   std::function<void(int pass)> on_pass;
+  /// Asked after every scan and before the outputs are committed (e.g. a signal came): true
+  /// ends the run with RunCancelled, the output directory as it was. May be empty.
+  std::function<bool()> cancelled;
 };
 
 struct MapJobResult {
@@ -48,8 +60,9 @@ struct MapJobResult {
   double slam_wall_s = 0;
 };
 
-/// Runs the job. Throws InputError when the input cannot be opened (nothing written then), and
-/// std::runtime_error for an output that cannot be written.
+/// Runs the job. Throws InputError when the input cannot be opened, std::runtime_error for an
+/// output that cannot be written and RunCancelled; in each case the output directory keeps the
+/// previous run's outputs and nothing of this one.
 MapJobResult runMapJob(const MapJob& job);
 
 }  // namespace dynamap

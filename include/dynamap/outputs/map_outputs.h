@@ -40,7 +40,4 @@ void writeRosMap(const DynamicGridMap& map, const std::string& dir, const std::s
 /// Throws std::runtime_error naming the directory otherwise.
 void prepareOutputDir(const std::string& dir);
 
-/// A JSON string literal of `s`, quoted and escaped.
-std::string jsonString(const std::string& s);
-
 }  // namespace dynamap
