@@ -109,8 +109,9 @@ void printSummary(const ImportArgs& a, const SourceStats& s, const ImportTally& 
   const auto bad = s.skipped.find("bad line");
   std::cout << "  bad lines:   " << (bad == s.skipped.end() ? 0 : bad->second) << "\n";
   for (const auto& [reason, n] : s.skipped) {
-    if (reason != "bad line") std::cout << "  skipped:     " << n << " " << reason << "\n";
+    if (reason != "bad line") std::cout << "  skipped:     " << n << " " << reason << " (lines)\n";
   }
+  for (const std::string& w : s.warnings) std::cout << "  warning:     " << w << "\n";
   std::cout << "wrote " << a.output << " and " << gt_file << "\n";
 }
 
