@@ -173,13 +173,15 @@ class RawlogSource : public ScanSource {
   void resolvePending(bool final) {
     while (!pending_.empty()) {
       Pending& p = pending_.front();
+      // Poses from a file are all there; from the log, the scan's own pose may follow it (a
+      // scan stamped before poses already read, its clock stepped back, must not be
+      // interpolated between others): a scan waits for at least one sample read after it.
+      const bool complete = final || poses_from_file_;
+      if (!complete && source_ != PoseSource::Fixed && poses_.added() == p.samples_before) return;
       mrpt::poses::CPose2D pose;  // the origin under Fixed: withFixedPose sets the pose
-      const PoseTrack::Lookup r =
-          source_ == PoseSource::Fixed ? PoseTrack::Lookup::kFound : poses_.at(p.t, pose, final);
+      const PoseTrack::Lookup r = source_ == PoseSource::Fixed ? PoseTrack::Lookup::kFound
+                                                               : poses_.at(p.t, pose, complete);
       if (r == PoseTrack::Lookup::kLater) return;  // wait for a later pose
-      // A scan stamped before poses already read (the clock stepped back) may find its own
-      // pose in the next sample: give it up only once one more has come.
-      if (r == PoseTrack::Lookup::kMissing && !final && poses_.added() == p.samples_before) return;
       if (r != PoseTrack::Lookup::kFound) {
         if (final && !fault_.empty()) {  // the fault, not the pose, is what went wrong
           pending_.clear();

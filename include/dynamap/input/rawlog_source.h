@@ -21,8 +21,9 @@ RawlogPeek peekRawlog(const std::string& path);
 /// A rawlog's scans with poses from `source` (GroundTruth: CObservationRobotPose, else the
 /// companion <log>.gt.txt; Odometry: CObservationOdometry, else integrated actions), each looked
 /// up by the scan's time under `track`'s rules; Fixed: every scan at the origin, the log's poses
-/// unread. A scan stamped earlier than poses already read (a clock stepping back) waits for the
-/// next pose sample before it is given up. A scan without a pose, or whose time matches several
+/// unread. A scan waits for at least one pose sample read after it (its own may follow it: a
+/// scan stamped before poses already read, its clock stepped back, takes its own, not one
+/// interpolated between others). A scan without a pose, or whose time matches several
 /// different poses (timestamps that repeat: time cannot place it), is an InputError naming it; a
 /// record cut off or corrupt is an InputError naming its index and byte offset, after every scan
 /// before it.
