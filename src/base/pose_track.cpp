@@ -46,9 +46,7 @@ PoseTrack::Iter PoseTrack::match(double t) const {
 }
 
 bool PoseTrack::sharedTime(Iter s) const {
-  const auto differs = [&](Iter o) {
-    return o->first == s->first && !(o->second == s->second);
-  };
+  const auto differs = [&](Iter o) { return o->first == s->first && !(o->second == s->second); };
   return (s != samples_.begin() && differs(s - 1)) || (s + 1 != samples_.end() && differs(s + 1));
 }
 

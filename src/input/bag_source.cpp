@@ -513,9 +513,9 @@ BagReader::Impl::Outcome BagReader::Impl::resolve(Pending& p, bool complete) {
   BagScan out;
   auto lookup = [&](const std::string& fixed_frame, std::optional<CPose2D>& pose) {
     CPose2D q;
-    const L r = definite(fixed_frame.empty()
-                             ? odom.at(p.t, q, complete)
-                             : tree.lookup(frameName(fixed_frame), base, p.t, complete, q));
+    const L r =
+        definite(fixed_frame.empty() ? odom.at(p.t, q, complete)
+                                     : tree.lookup(frameName(fixed_frame), base, p.t, complete, q));
     if (r == L::kFound) pose = q;
     return r;
   };

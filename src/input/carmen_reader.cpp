@@ -5,8 +5,8 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -342,8 +342,9 @@ std::string geometryDisagreement(std::size_t beams, const CarmenLaserParams& par
   // Beams at both ends span (n-1) steps, CARMEN's even counts n steps: either agrees.
   const double n = static_cast<double>(beams);
   if (std::abs(step * (n - 1) - fov) <= step || std::abs(step * n - fov) <= step) return {};
-  return std::to_string(beams) + " beams " + formatDeg(step) + " deg apart (PARAM resolution) span " +
-         formatDeg(step * (n - 1)) + " deg, not the field of view of " + formatDeg(fov) + " deg (" +
+  return std::to_string(beams) + " beams " + formatDeg(step) +
+         " deg apart (PARAM resolution) span " + formatDeg(step * (n - 1)) +
+         " deg, not the field of view of " + formatDeg(fov) + " deg (" +
          (params.fov_deg ? "PARAM fov" : "assumed: no PARAM fov") + "); assumed: beams " +
          formatDeg(step) + " deg apart from -" + formatDeg(fov / 2) +
          " deg (--fov DEG spreads them over DEG instead)";
@@ -471,8 +472,8 @@ void CarmenReader::probeTimes() {
   retime_ = true;
   const bool zero = times.size() == 1 && *times.begin() == 0;
   warn("its first " + std::to_string(scans) + " laser lines carry " +
-       (zero ? std::string("timestamp 0 only") :
-               "only " + std::to_string(times.size()) + " distinct timestamps") +
+       (zero ? std::string("timestamp 0 only")
+             : "only " + std::to_string(times.size()) + " distinct timestamps") +
        ": time cannot order them, so each scan is timed by its place in the log at a nominal " +
        formatDeg(kNominalRate) + " Hz (scan k at k/" + formatDeg(kNominalRate) +
        " s) and each ODOM line at the scan before it");
@@ -654,9 +655,10 @@ class CarmenSource : public ScanSource {
         continue;
       }
       if (reader_.retimed()) {
-        throw InputError(path() + ": the ODOM lines cannot be interpolated to the scans' times: "
-                                  "the log's timestamps are degenerate (use the laser lines' "
-                                  "odometry: --carmen-odometry laser)");
+        throw InputError(path() +
+                         ": the ODOM lines cannot be interpolated to the scans' times: "
+                         "the log's timestamps are degenerate (use the laser lines' "
+                         "odometry: --carmen-odometry laser)");
       }
       if (e.kind == CarmenEvent::Kind::Odometry) {
         odom_.add(e.t, *e.odometry);
@@ -676,12 +678,12 @@ class CarmenSource : public ScanSource {
     const PoseTrack::Lookup r = odom_.at(p.rec.t, p.rec.pose, complete);
     if (r == PoseTrack::Lookup::kLater) return false;
     if (r != PoseTrack::Lookup::kFound) {
-      throw InputError(path() + ":" + std::to_string(p.line) + ": scan " +
-                       std::to_string(p.rec.index) + " (t=" + std::to_string(p.rec.t) + ") has " +
-                       (r == PoseTrack::Lookup::kAmbiguous
-                            ? "several different ODOM lines stamped at its time"
-                            : "no ODOM line within " + std::to_string(odom_.maxGap()) +
-                                  " s around it"));
+      throw InputError(
+          path() + ":" + std::to_string(p.line) + ": scan " + std::to_string(p.rec.index) +
+          " (t=" + std::to_string(p.rec.t) + ") has " +
+          (r == PoseTrack::Lookup::kAmbiguous
+               ? "several different ODOM lines stamped at its time"
+               : "no ODOM line within " + std::to_string(odom_.maxGap()) + " s around it"));
     }
     out = std::move(p.rec);
     pending_.pop_front();

@@ -179,8 +179,8 @@ class RawlogSource : public ScanSource {
       const bool complete = final || poses_from_file_;
       if (!complete && source_ != PoseSource::Fixed && poses_.added() == p.samples_before) return;
       mrpt::poses::CPose2D pose;  // the origin under Fixed: withFixedPose sets the pose
-      const PoseTrack::Lookup r = source_ == PoseSource::Fixed ? PoseTrack::Lookup::kFound
-                                                               : poses_.at(p.t, pose, complete);
+      const PoseTrack::Lookup r =
+          source_ == PoseSource::Fixed ? PoseTrack::Lookup::kFound : poses_.at(p.t, pose, complete);
       if (r == PoseTrack::Lookup::kLater) return;  // wait for a later pose
       if (r != PoseTrack::Lookup::kFound) {
         if (final && !fault_.empty()) {  // the fault, not the pose, is what went wrong

@@ -123,8 +123,9 @@ TEST_F(RealLogQuirks, AGroundTruthFileOffByARoundingErrorStillGivesEveryScanItsP
   for (int k = 0; k < 8; ++k) {
     const double t = 1000.0 + 4.0 * k + 0.12345678;  // not a whole microsecond
     const mrpt::poses::CPose2D pose(0.5 * k, 0, 0.05 * k);
-    steps.push_back({t, pose, test::makeScan(test::roomRanges(-3.02, 12.03, -2.97, 3.01, pose, 181, M_PI),
-                                             M_PI, t)});
+    steps.push_back(
+        {t, pose,
+         test::makeScan(test::roomRanges(-3.02, 12.03, -2.97, 3.01, pose, 181, M_PI), M_PI, t)});
     gt += num(t) + " " + num(pose.x()) + " " + num(pose.y()) + " " + num(pose.phi()) + "\n";
   }
   test::writeObsRawlog(dir_ + "/rounded.rawlog", steps, false);
@@ -179,7 +180,8 @@ TEST_F(RealLogQuirks, GroundTruthPosesSharingOneTimeAreAClearError) {
   for (int k = 0; k < 5; ++k) {
     const mrpt::poses::CPose2D pose(0.5 * k, 0, 0);
     steps.push_back(
-        {7.0, pose, test::makeScan(test::roomRanges(-3.02, 12.03, -2.97, 3.01, pose, 181, M_PI), M_PI, 7.0)});
+        {7.0, pose,
+         test::makeScan(test::roomRanges(-3.02, 12.03, -2.97, 3.01, pose, 181, M_PI), M_PI, 7.0)});
   }
   test::writeObsRawlog(dir_ + "/same.rawlog", steps);
   std::string out;
@@ -209,7 +211,8 @@ TEST_F(RealLogQuirks, AFieldOfViewInRadiansMapsAsItsDegrees) {
   const std::vector<Line> lines = drive(6, 50.0, 0.25);
   const std::string rad =
       write("rad.log", carmenLog(lines, "PARAM laser_front_laser_fov 3.14159 0 h 0\n"));
-  const std::string deg = write("deg.log", carmenLog(lines, "PARAM laser_front_laser_fov 180 0 h 0\n"));
+  const std::string deg =
+      write("deg.log", carmenLog(lines, "PARAM laser_front_laser_fov 180 0 h 0\n"));
   std::string out;
   ASSERT_EQ(map(rad, "rad", "", &out), 0) << out;
   EXPECT_NE(out.find("rad.log: line 2: PARAM laser_front_laser_fov 3.14159 read as radians"),

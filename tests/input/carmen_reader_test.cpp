@@ -485,21 +485,19 @@ TEST_F(CarmenTest, AFieldOfViewInRadiansIsReadAsRadiansAndSaidSo) {
 TEST_F(CarmenTest, AGeometryThatDoesNotAgreeIsAWarningSayingWhatWasAssumed) {
   using namespace quirks;
   // 180 beams 0.5 deg apart span 90 deg, not the 180 deg assumed without a fov PARAM.
-  const std::string path = write(
-      "geom.log", "PARAM laser_front_laser_resolution 0.5 0 host 0\n" + flaser(180, 0, 1.0) +
-                      flaser(180, 0, 2.0));
+  const std::string path = write("geom.log", "PARAM laser_front_laser_resolution 0.5 0 host 0\n" +
+                                                 flaser(180, 0, 1.0) + flaser(180, 0, 2.0));
   SourceStats stats;
   const auto events = readAll(path, {}, &stats);
   ASSERT_EQ(stats.warnings.size(), 1u);  // once, not per line
   EXPECT_NE(stats.warnings[0].find("geom.log: line 2: 180 beams 0.5 deg apart"), std::string::npos)
       << stats.warnings[0];
-  EXPECT_NE(stats.warnings[0].find("assumed: beams 0.5 deg apart from -90 deg"),
-            std::string::npos);
+  EXPECT_NE(stats.warnings[0].find("assumed: beams 0.5 deg apart from -90 deg"), std::string::npos);
   EXPECT_NEAR(beamAngle(*events[0].scan, 0), -M_PI / 2, 1e-6);
   SourceStats agree;  // Freiburg's: 360 beams of 0.5 deg over 180
-  readAll(write("ok.log", "PARAM laser_front_laser_resolution 0.5 0 host 0\n" +
-                              flaser(360, 0, 1.0)),
-          {}, &agree);
+  readAll(
+      write("ok.log", "PARAM laser_front_laser_resolution 0.5 0 host 0\n" + flaser(360, 0, 1.0)),
+      {}, &agree);
   EXPECT_TRUE(agree.warnings.empty());
 }
 
@@ -521,7 +519,8 @@ TEST_F(CarmenTest, DegenerateTimestampsAreReplacedByTheLogsOrderWithAWarning) {
       EXPECT_NEAR(mrpt::Clock::toDouble(events[k].scan->timestamp), want[k], 1e-6);
     }
   }
-  EXPECT_TRUE(anyContains(stats.warnings, "laser lines carry timestamp 0 only")) << stats.warnings[0];
+  EXPECT_TRUE(anyContains(stats.warnings, "laser lines carry timestamp 0 only"))
+      << stats.warnings[0];
   SourceStats stats2;
   const auto events2 = readAll(write("two.log", two), {}, &stats2);
   EXPECT_NEAR(events2.back().t, 0.5, 1e-12);

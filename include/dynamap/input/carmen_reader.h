@@ -199,7 +199,7 @@ class CarmenReader {
 
   static constexpr std::size_t kTimeProbeScans = 20;
   static constexpr std::size_t kTimeProbeEvents = 5000;  // read ahead at most (ODOM lines too)
-  static constexpr double kNominalRate = 10.0;  // [Hz]
+  static constexpr double kNominalRate = 10.0;           // [Hz]
   /// True once timestamps were found degenerate (known after the first next()).
   bool retimed() const { return retime_; }
 
@@ -227,10 +227,10 @@ class CarmenReader {
   std::optional<mrpt::poses::CPose2D> last_odometry_;
   SourceStats stats_;
   bool probed_ = false, retime_ = false;
-  std::deque<CarmenEvent> ahead_;  // events read while probing the timestamps
+  std::deque<CarmenEvent> ahead_;   // events read while probing the timestamps
   std::exception_ptr probe_fault_;  // an InputError met while probing, thrown after ahead_
   std::size_t retimed_scans_ = 0;
-  double retimed_t_ = 0;      // the last retimed scan's time
+  double retimed_t_ = 0;                              // the last retimed scan's time
   bool geometry_checked_[3] = {false, false, false};  // by CarmenLaserKind
 };
 
