@@ -183,6 +183,7 @@ class RawlogSource : public ScanSource {
           source_ == PoseSource::Fixed ? PoseTrack::Lookup::kFound : poses_.at(p.t, pose, complete);
       if (r == PoseTrack::Lookup::kLater) return;  // wait for a later pose
       if (r != PoseTrack::Lookup::kFound) {
+        if (!ready_.empty()) return;  // the scans before it go out first; the error next
         if (final && !fault_.empty()) {  // the fault, not the pose, is what went wrong
           pending_.clear();
           return;
