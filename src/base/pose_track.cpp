@@ -53,7 +53,7 @@ bool PoseTrack::sharedTime(Iter s) const {
 PoseTrack::Lookup PoseTrack::at(double t, mrpt::poses::CPose2D& pose, bool complete) const {
   if (samples_.empty()) return complete ? Lookup::kMissing : Lookup::kLater;
   if (const Iter m = match(t); m != samples_.end()) {
-    if (sharedTime(m)) return Lookup::kAmbiguous;
+    if (options_.shared_time_ambiguous && sharedTime(m)) return Lookup::kAmbiguous;
     pose = m->second;
     return Lookup::kFound;
   }

@@ -489,20 +489,13 @@ std::string BagReader::Impl::salvageFault() const {
          (where.empty() ? std::string() : ": " + where);
 }
 
-namespace {
-/// Two transforms of one frame stamped alike but different: no pose at that time (kMissing).
-PoseTrack::Lookup definite(PoseTrack::Lookup r) {
-  return r == PoseTrack::Lookup::kAmbiguous ? PoseTrack::Lookup::kMissing : r;
-}
-}  // namespace
-
 BagReader::Impl::Outcome BagReader::Impl::resolve(Pending& p, bool complete) {
   using L = PoseTrack::Lookup;
   const std::string& base = frameName(options.base_frame);
   const bool need_any = need_odometry || need_ground_truth;
   CPose2D mount;
   if (p.frame != base && !p.frame.empty()) {
-    const L r = definite(tree.lookup(base, p.frame, p.t, complete, mount));
+    const L r = tree.lookup(base, p.frame, p.t, complete, mount);
     if (r == L::kLater) return Outcome::kLater;
     if (r == L::kMissing && (need_any || (tree.knows(base) && tree.knows(p.frame)))) {
       ++stats.skipped["scan frame '" + p.frame + "' has no transform to '" + base + "'"];
@@ -513,9 +506,8 @@ BagReader::Impl::Outcome BagReader::Impl::resolve(Pending& p, bool complete) {
   BagScan out;
   auto lookup = [&](const std::string& fixed_frame, std::optional<CPose2D>& pose) {
     CPose2D q;
-    const L r =
-        definite(fixed_frame.empty() ? odom.at(p.t, q, complete)
-                                     : tree.lookup(frameName(fixed_frame), base, p.t, complete, q));
+    const L r = fixed_frame.empty() ? odom.at(p.t, q, complete)
+                                    : tree.lookup(frameName(fixed_frame), base, p.t, complete, q);
     if (r == L::kFound) pose = q;
     return r;
   };

@@ -678,12 +678,10 @@ class CarmenSource : public ScanSource {
     const PoseTrack::Lookup r = odom_.at(p.rec.t, p.rec.pose, complete);
     if (r == PoseTrack::Lookup::kLater) return false;
     if (r != PoseTrack::Lookup::kFound) {
-      throw InputError(
-          path() + ":" + std::to_string(p.line) + ": scan " + std::to_string(p.rec.index) +
-          " (t=" + std::to_string(p.rec.t) + ") has " +
-          (r == PoseTrack::Lookup::kAmbiguous
-               ? "several different ODOM lines stamped at its time"
-               : "no ODOM line within " + std::to_string(odom_.maxGap()) + " s around it"));
+      throw InputError(path() + ":" + std::to_string(p.line) + ": scan " +
+                       std::to_string(p.rec.index) + " (t=" + std::to_string(p.rec.t) +
+                       ") has no ODOM line within " + std::to_string(odom_.maxGap()) +
+                       " s around it (see [input] pose_max_gap)");
     }
     out = std::move(p.rec);
     pending_.pop_front();

@@ -29,7 +29,7 @@ class RawlogSource : public ScanSource {
       : path_(path),
         source_(source),
         bytes_(static_cast<double>(uncompressedSize(path))),
-        poses_(track) {
+        poses_(trackOptions(track, source)) {
     if (!in_.open(path)) throw InputError(path + ": cannot open");
     if (source_ == PoseSource::GroundTruth && !hasGroundTruthInLog(path)) {
       const std::string gt = companionGroundTruth(path);
@@ -47,6 +47,12 @@ class RawlogSource : public ScanSource {
   }
 
   static bool hasGroundTruthInLog(const std::string& path);
+
+  /// Ground truth whose times repeat cannot place a scan: an error, not the first pose.
+  static PoseTrackOptions trackOptions(PoseTrackOptions o, PoseSource source) {
+    o.shared_time_ambiguous = source == PoseSource::GroundTruth;
+    return o;
+  }
 
   bool next(ScanRecord& out) override {
     while (true) {

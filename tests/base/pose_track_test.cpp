@@ -80,12 +80,19 @@ TEST(PoseTrack, ATimeWithinTheToleranceOfASampleIsThatSample) {
 }
 
 // Timestamps that repeat (all 0) with different poses: time cannot pick one.
-TEST(PoseTrack, DifferentPosesSharingATimeAreAmbiguous) {
-  PoseTrack track;
-  for (int k = 0; k < 5; ++k) track.add(0.0, CPose2D(k, 0, 0));
+TEST(PoseTrack, DifferentPosesSharingATimeAreAmbiguousWhenAsked) {
+  PoseTrackOptions strict;
+  strict.shared_time_ambiguous = true;
+  PoseTrack track(strict), odometry;
+  for (int k = 0; k < 5; ++k) {
+    track.add(0.0, CPose2D(k, 0, 0));
+    odometry.add(0.0, CPose2D(k, 0, 0));
+  }
   CPose2D p;
   EXPECT_EQ(track.at(0.0, p, true), Lookup::kAmbiguous);
-  PoseTrack same;  // the same pose twice is no ambiguity
+  ASSERT_EQ(odometry.at(0.0, p, true), Lookup::kFound);  // not asked: the first one added
+  EXPECT_DOUBLE_EQ(p.x(), 0.0);
+  PoseTrack same(strict);  // the same pose twice is no ambiguity
   same.add(1.0, CPose2D(1, 2, 0));
   same.add(1.0, CPose2D(1, 2, 0));
   ASSERT_EQ(same.at(1.0, p, true), Lookup::kFound);

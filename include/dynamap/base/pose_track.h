@@ -27,6 +27,10 @@ struct PoseTrackOptions {
   double match_tolerance = 1e-3;
   /// A time before the first or after the last sample takes that sample when this close [s].
   double end_tolerance = 0.1;
+  /// Samples sharing a time but not a pose make a lookup at that time kAmbiguous (a ground
+  /// truth whose timestamps repeat cannot place a scan). Off, the first sample added wins (an
+  /// odometry stream's duplicate stamps are its own noise).
+  bool shared_time_ambiguous = false;
 };
 
 class PoseTrack {
@@ -36,9 +40,9 @@ class PoseTrack {
   static constexpr std::size_t kSpacingSamples = 1000;
 
   /// kFound (pose filled); kLater (t is past the last sample: a later sample may still come);
-  /// kMissing (no sample near enough before or around t); kAmbiguous (the sample matching t
-  /// shares its time with another of a different pose: the log's timestamps repeat, so time
-  /// cannot say which pose is t's).
+  /// kMissing (no sample near enough before or around t); kAmbiguous (shared_time_ambiguous
+  /// only: the sample matching t shares its time with another of a different pose: the log's
+  /// timestamps repeat, so time cannot say which pose is t's).
   enum class Lookup { kFound, kLater, kMissing, kAmbiguous };
 
   PoseTrack() = default;

@@ -8,7 +8,7 @@
 // when finite and within [range_min, range_max] (ROS: values outside are to be discarded).
 // Poses are 2D (x, y, yaw) and taken at each scan's stamp, interpolated between the transforms
 // around it (PoseTrack's rules: samples at most PoseTrack::maxGap() apart, an end sample within
-// 0.1 s; two transforms of a frame stamped alike but different give none):
+// 0.1 s):
 //   mount        base_frame -> the scan's frame (usually /tf_static), as the scan's sensorPose;
 //   odometry     odom_frame -> base_frame from /tf, or the pose of nav_msgs/Odometry on
 //                odom_topic;
