@@ -41,6 +41,10 @@ po::options_description importOptions() {
        "field of view of every laser [deg], overriding the PARAM lines and ROBOTLASER1 fields; "
        "the angular step then follows from the beam count. Default: PARAM "
        "laser_front_laser_fov, else 180")  //
+      ("carmen-odometry", po::value<std::string>()->default_value("laser"),
+       "the odometry stream written as CObservationOdometry: laser (each laser line's odometry "
+       "fields; ROBOTLASER1: the latest ODOM line) or odom (the ODOM lines, with their "
+       "velocities), as dynamap map --carmen-odometry reads the log")  //
       ("skip-bad-lines",
        "skip malformed lines of known types (counted in the summary) instead of stopping at the "
        "first one");
@@ -55,9 +59,9 @@ ImportArgs parseImportArgs(const Args& args, bool& help) {
       args, visible,
       "Reads FLASER/RLASER, ROBOTLASER1, ODOM and the laser PARAM lines of a CARMEN log\n"
       "(plain or gz); every scan keeps the log's own time (its ipc_timestamp).\n"
-      "Writes, per laser line: CObservationOdometry (label ODOMETRY, when known),\n"
-      "CObservation2DRangeScan (LASER), CObservationRobotPose (GT, the line's pose);\n"
-      "per ODOM line: CObservationOdometry. Other lines are skipped and counted.\n"
+      "Writes, per laser line: CObservationOdometry (label ODOMETRY, when known; with\n"
+      "--carmen-odometry odom per ODOM line instead), CObservation2DRangeScan (LASER),\n"
+      "CObservationRobotPose (GT, the line's pose). Other lines are skipped and counted.\n"
       "See docs/carmen.md.\n",
       "CARMEN log", vm, a.input, a.output);
   if (help) return {};
@@ -68,6 +72,11 @@ ImportArgs parseImportArgs(const Args& args, bool& help) {
     }
   }
   a.carmen.skip_bad_lines = vm.count("skip-bad-lines") > 0;
+  try {
+    a.carmen.odometry = parseCarmenOdometry(vm["carmen-odometry"].as<std::string>());
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--carmen-odometry: ") + e.what());
+  }
   return a;
 }
 
@@ -99,7 +108,11 @@ void printSummary(const ImportArgs& a, const SourceStats& s, const ImportTally& 
             << "  scans:       " << s.scans << " (the first: " << tally.beams << " beams, "
             << tally.aperture_deg / (tally.beams - 1) << " deg apart, aperture "
             << tally.aperture_deg << " deg)\n"
-            << "  odometry:    " << tally.odometry << " ODOM lines\n";
+            << "  odometry:    " << tally.odometry << " ODOM lines; written: "
+            << (a.carmen.odometry == CarmenOdometrySource::OdomLines
+                    ? "the ODOM lines"
+                    : "each laser line's odometry fields")
+            << "\n";
   if (tally.t_first) {
     char span[128];
     std::snprintf(span, sizeof span, "%.6f .. %.6f (%.1f s)", *tally.t_first, *tally.t_last,
@@ -109,8 +122,9 @@ void printSummary(const ImportArgs& a, const SourceStats& s, const ImportTally& 
   const auto bad = s.skipped.find("bad line");
   std::cout << "  bad lines:   " << (bad == s.skipped.end() ? 0 : bad->second) << "\n";
   for (const auto& [reason, n] : s.skipped) {
-    if (reason != "bad line") std::cout << "  skipped:     " << n << " " << reason << "\n";
+    if (reason != "bad line") std::cout << "  skipped:     " << n << " " << reason << " (lines)\n";
   }
+  for (const std::string& w : s.warnings) std::cout << "  warning:     " << w << "\n";
   std::cout << "wrote " << a.output << " and " << gt_file << "\n";
 }
 
@@ -126,8 +140,10 @@ int runImportCarmen(const Args& args) {
   ImportTally tally;
   CarmenEvent e;
   while (reader.next(e)) {
+    // One odometry stream, the one asked for: two interleaved would be one noisy stream.
+    const bool odom_lines = a.carmen.odometry == CarmenOdometrySource::OdomLines;
     if (e.kind == CarmenEvent::Kind::Odometry) {
-      out.write(odometryObservation(e));
+      if (odom_lines) out.write(odometryObservation(e));
       ++tally.odometry;
       continue;
     }
@@ -137,7 +153,7 @@ int runImportCarmen(const Args& args) {
       tally.aperture_deg = e.scan->aperture * 180.0 / M_PI;
     }
     tally.t_last = e.t;
-    if (e.odometry) out.write(odometryObservation(e));
+    if (e.odometry && !odom_lines) out.write(odometryObservation(e));
     out.write(*e.scan);
     out.write(groundTruthObservation(e));
     out.writeGroundTruth(e.t, e.pose);

@@ -22,7 +22,8 @@ namespace {
 const char* const kUsage =
     "usage: dynamap map --input FILE [--config FILE] [--out DIR] [--poses SOURCE]\n"
     "                   [--fixed-pose \"X Y PHI\"] [--frames-every N] [--no-baseline]\n"
-    "                   [--skip-bad-lines] [--fov DEG] [--scan-topic T] [--odom-topic T]\n"
+    "                   [--skip-bad-lines] [--fov DEG] [--carmen-odometry laser|odom]\n"
+    "                   [--scan-topic T] [--odom-topic T]\n"
     "                   [--odom-frame F] [--base-frame F] [--gt-frame F] [--verbose]\n\n"
     "Builds the static map S and the dynamic map D from a log (MRPT rawlog, MRPT simplemap,\n"
     "CARMEN log, plain or gz, or ROS 1 bag, told apart by content) and writes into DIR:\n"
@@ -38,20 +39,31 @@ const char* const kUsage =
     "nav_msgs/Odometry on --odom-topic), ground truth map -> base_link, the laser's mount\n"
     "base_link -> its frame from /tf_static; --poses fixed for a robot standing still.";
 
-// One line for the scans skipped (by reason, as in summary.json), one for timestamps that went
-// backwards.
+// What the reader assumed, one line each; then one line for the records (lines, messages) that
+// were not scans, one for the scans skipped (by reason, as in summary.json), one for timestamps
+// that went backwards.
 void warnAboutSkips(const RunCounts& counts, const SourceStats& stats) {
-  auto reasons = counts.scans_skipped;
-  for (const auto& kv : stats.skipped) reasons[kv.first] += kv.second;
-  std::size_t total = 0;
-  std::string list;
-  for (const auto& kv : reasons) {
-    total += kv.second;
-    list += (list.empty() ? "" : ", ") + kv.first + " (" + std::to_string(kv.second) + ")";
+  for (const std::string& w : stats.warnings) {
+    std::cerr << "dynamap map: warning: " << printable(w) << "\n";
   }
-  if (total > 0) {
-    std::cerr << "dynamap map: warning: " << total << " scans skipped: " << printable(list)
-              << " (see summary.json)\n";
+  const auto list = [](const std::map<std::string, std::size_t>& reasons, std::size_t& total) {
+    std::string out;
+    for (const auto& kv : reasons) {
+      total += kv.second;
+      out += (out.empty() ? "" : ", ") + kv.first + " (" + std::to_string(kv.second) + ")";
+    }
+    return out;
+  };
+  std::size_t records = 0, scans = 0;
+  const std::string record_list = list(stats.skipped, records);
+  const std::string scan_list = list(counts.scans_skipped, scans);
+  if (records > 0) {
+    std::cerr << "dynamap map: warning: " << records << " " << stats.record_unit << " of "
+              << stats.records << " skipped: " << printable(record_list) << " (see summary.json)\n";
+  }
+  if (scans > 0) {
+    std::cerr << "dynamap map: warning: " << scans << " scans of " << stats.scans
+              << " skipped: " << printable(scan_list) << " (see summary.json)\n";
   }
   if (counts.time_backwards > 0) {
     std::cerr << "dynamap map: warning: " << counts.time_backwards
@@ -80,6 +92,13 @@ void applyPoseOptions(const po::variables_map& vm, MapConfig& config) {
       throw UsageError(std::string("--poses: ") + e.what());
     }
   }
+  if (vm.count("carmen-odometry")) {
+    try {
+      config.carmen_odometry = parseCarmenOdometry(vm["carmen-odometry"].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--carmen-odometry: ") + e.what());
+    }
+  }
   if (vm.count("fixed-pose")) {
     try {
       config.fixed_pose = parseFixedPose(vm["fixed-pose"].as<std::string>());
@@ -89,8 +108,7 @@ void applyPoseOptions(const po::variables_map& vm, MapConfig& config) {
   }
 }
 
-// The command line as a job; false after --help.
-bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
+po::options_description mapOptions() {
   po::options_description opts("options");
   opts.add_options()("help,h", "explain the options")(
       "input,i", po::value<std::string>()->required(),
@@ -114,6 +132,9 @@ bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
       "of stopping at the first")(
       "fov", po::value<double>(),
       "CARMEN input: field of view of every laser line [deg], overriding the log")(
+      "carmen-odometry", po::value<std::string>(),
+      "CARMEN input, poses odometry: laser (each laser line's odometry fields) | odom (the "
+      "ODOM lines interpolated to each scan's time); overrides [input] carmen_odometry")(
       "scan-topic", po::value<std::string>(),
       "ROS bag input: the sensor_msgs/LaserScan topic (default: the bag's only one)")(
       "odom-topic", po::value<std::string>(),
@@ -127,6 +148,12 @@ bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
       "frames-every", po::value<long>(),
       "write frames/NNNNNN.png every N scans (and timelapse.mp4 with ffmpeg)")(
       "verbose,v", "print progress and a summary even when not on a terminal");
+  return opts;
+}
+
+// The command line as a job; false after --help.
+bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
+  const po::options_description opts = mapOptions();
   po::variables_map vm;
   if (!parseArgs(args, opts, {}, vm, kUsage)) return false;
   if (vm.count("config"))
@@ -218,6 +245,10 @@ int runMap(const Args& args) {
     return 128 + g_stop_signal;
   }
   progress->finish();
+  if (job.config.poses == PoseSource::Auto) {  // always: the user did not say which
+    std::cerr << "dynamap map: poses auto: " << r.pose_source
+              << (r.pose_detail.empty() ? "" : " (" + r.pose_detail + ")") << "\n";
+  }
   if (verbose || stderrIsTerminal()) reportRun(job, r);
   warnAboutSkips(r.counts, r.source_stats);
   if (!r.outcome.fault.empty()) {

@@ -536,9 +536,9 @@ BagReader::Impl::Outcome BagReader::Impl::resolve(Pending& p, bool complete) {
 void BagReader::Impl::resolvePending(bool final) {
   while (!pending.empty()) {
     Pending& p = pending.front();
-    // No transform stamped within kMaxGap after a scan is coming once the data are past that.
+    // No transform stamped within kMinAutoGap after a scan is coming once the data are past that.
     const bool complete =
-        final || pending.size() > kMaxPending || stream_t > p.t + PoseTrack::kMaxGap;
+        final || pending.size() > kMaxPending || stream_t > p.t + PoseTrack::kMinAutoGap;
     if (resolve(p, complete) == Outcome::kLater) break;
     pending.pop_front();
   }

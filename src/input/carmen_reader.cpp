@@ -6,12 +6,15 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 
 #include "dynamap/base/ini.h"
@@ -52,21 +55,30 @@ class FieldCursor {
   double number(const char* what) {
     const std::string& s = field(what);
     double v = 0;
-    if (!parseDouble(s, v)) fail(what, "'" + s + "' is not a finite number");
+    const CarmenNumber r = parseCarmenNumber(s, v);
+    if (r == CarmenNumber::kSubnormal) subnormal(what, s);
+    if (r != CarmenNumber::kOk) fail(what, "'" + s + "' is not a finite number");
     return v;
   }
   /// A range: a number that may be nan or inf (an invalid beam, not a bad line).
   float range() {
     const std::string& s = field("range");
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (end != s.c_str() + s.size()) fail("range", "'" + s + "' is not a number");
+    double v = 0;
+    const CarmenNumber r = parseCarmenNumber(s, v);
+    if (r == CarmenNumber::kSubnormal) subnormal("range", s);
+    if (r == CarmenNumber::kNotNumber) fail("range", "'" + s + "' is not a number");
     return static_cast<float>(v);
   }
   std::size_t count(const char* what) {
     const std::string& s = field(what);
-    long v = 0;
-    if (!parseLong(s, v) || v < 0) fail(what, "'" + s + "' is not a count");
+    const char* first = s.data() + (s.size() > 1 && s[0] == '+' ? 1 : 0);
+    const char* last = s.data() + s.size();
+    unsigned long long v = 0;
+    const auto [end, ec] = std::from_chars(first, last, v);
+    if (ec != std::errc() || end != last || first[0] == '-' ||
+        v > std::numeric_limits<std::size_t>::max()) {
+      fail(what, "'" + s + "' is not a count");
+    }
     return static_cast<std::size_t>(v);
   }
   mrpt::math::TPose2D pose(const char* what) {
@@ -82,6 +94,10 @@ class FieldCursor {
 
   [[noreturn]] void fail(const char* what, const std::string& msg) const {
     throw CarmenParseError(f_[0] + " field " + std::to_string(pos_) + " (" + what + "): " + msg);
+  }
+  [[noreturn]] void subnormal(const char* what, const std::string& s) const {
+    throw CarmenSubnormalNumber(f_[0] + " field " + std::to_string(pos_) + " (" + what + "): '" +
+                                s + "' is subnormal (a corrupt record)");
   }
 
  private:
@@ -187,7 +203,7 @@ CarmenOdometry parseOdometry(const std::vector<std::string>& f) {
 
 double paramNumber(const std::string& name, const std::string& value) {
   double v = 0;
-  if (!parseDouble(value, v)) {
+  if (parseCarmenNumber(value, v) != CarmenNumber::kOk) {
     throw CarmenParseError("PARAM " + name + ": '" + value + "' is not a number");
   }
   return v;
@@ -202,6 +218,16 @@ const std::set<std::string>& knownMessageWords() {
   return kWords;
 }
 
+/// An angle in degrees as a message shows it: at most 3 decimals, no trailing zeros.
+std::string formatDeg(double deg) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", deg);
+  std::string s = buf;
+  while (s.back() == '0') s.pop_back();
+  if (s.back() == '.') s.pop_back();
+  return s;
+}
+
 /// The skip reason of a line type, its name cut short so garbage cannot flood the summary.
 std::string typeReason(const std::string& type) {
   return "line type " + (type.size() > 32 ? type.substr(0, 32) + "..." : type);
@@ -210,6 +236,30 @@ std::string typeReason(const std::string& type) {
 }  // namespace
 
 // --- pure parsing ------------------------------------------------------------------------------
+
+CarmenNumber parseCarmenNumber(const std::string& field, double& v) {
+  // strtod took a leading '+'; from_chars does not: skip one, unless a sign follows it.
+  const bool plus = field.size() > 1 && field[0] == '+' && field[1] != '-' && field[1] != '+';
+  const char* first = field.data() + (plus ? 1 : 0);
+  const char* last = field.data() + field.size();
+  const auto [end, ec] = std::from_chars(first, last, v);
+  if (end != last || first == last) return CarmenNumber::kNotNumber;
+  if (ec == std::errc::result_out_of_range) return CarmenNumber::kNotFinite;
+  if (ec != std::errc()) return CarmenNumber::kNotNumber;
+  if (!std::isfinite(v)) return CarmenNumber::kNotFinite;
+  if (std::fpclassify(v) == FP_SUBNORMAL) return CarmenNumber::kSubnormal;
+  return CarmenNumber::kOk;
+}
+
+CarmenOdometrySource parseCarmenOdometry(const std::string& name) {
+  if (name == "laser") return CarmenOdometrySource::LaserLines;
+  if (name == "odom") return CarmenOdometrySource::OdomLines;
+  throw std::invalid_argument("'" + name + "' is not laser or odom");
+}
+
+std::string toString(CarmenOdometrySource odometry) {
+  return odometry == CarmenOdometrySource::OdomLines ? "odom" : "laser";
+}
 
 CarmenLine parseCarmenLine(const std::string& line) {
   CarmenLine out;
@@ -235,7 +285,8 @@ CarmenLine parseCarmenLine(const std::string& line) {
   return out;
 }
 
-bool CarmenParams::applyParam(const std::string& name, const std::string& value) {
+bool CarmenParams::applyParam(const std::string& name, const std::string& value,
+                              std::string* note) {
   struct Key {
     const char* name;
     std::optional<double> CarmenLaserParams::*field;
@@ -258,7 +309,12 @@ bool CarmenParams::applyParam(const std::string& name, const std::string& value)
     if (positive_only && v <= 0) {
       throw CarmenParseError("PARAM " + name + ": " + value + " must be positive");
     }
-    (this->*k.laser).*k.field = v;
+    const bool radians = k.field == &CarmenLaserParams::fov_deg && v <= kMaxRadianFov;
+    (this->*k.laser).*k.field = radians ? v / kDeg : v;
+    if (radians && note) {
+      *note = "PARAM " + name + " " + value + " read as radians (" + formatDeg(v / kDeg) +
+              " deg): no laser spans under 6.3 deg; --fov DEG overrides it";
+    }
     return true;
   }
   return false;
@@ -277,6 +333,21 @@ LaserGeometry laserGeometry(std::size_t beams, const CarmenLaserParams& params,
     g.step = fov / static_cast<double>(beams % 2 == 1 ? beams - 1 : beams);
   }
   return g;
+}
+
+std::string geometryDisagreement(std::size_t beams, const CarmenLaserParams& params,
+                                 const CarmenOptions& options) {
+  if (options.fov_deg > 0 || !params.resolution_deg || beams < 2) return {};
+  const double fov = params.fov_deg.value_or(180.0), step = *params.resolution_deg;
+  // Beams at both ends span (n-1) steps, CARMEN's even counts n steps: either agrees.
+  const double n = static_cast<double>(beams);
+  if (std::abs(step * (n - 1) - fov) <= step || std::abs(step * n - fov) <= step) return {};
+  return std::to_string(beams) + " beams " + formatDeg(step) +
+         " deg apart (PARAM resolution) span " + formatDeg(step * (n - 1)) +
+         " deg, not the field of view of " + formatDeg(fov) + " deg (" +
+         (params.fov_deg ? "PARAM fov" : "assumed: no PARAM fov") + "); assumed: beams " +
+         formatDeg(step) + " deg apart from -" + formatDeg(fov / 2) +
+         " deg (--fov DEG spreads them over DEG instead)";
 }
 
 mrpt::obs::CObservation2DRangeScan::Ptr makeScan(const CarmenLaser& laser,
@@ -328,6 +399,7 @@ struct CarmenReader::LineInput : LineReader {
 
 CarmenReader::CarmenReader(const std::string& path, const CarmenOptions& options)
     : path_(path), options_(options) {
+  stats_.record_unit = "lines";
   // A missing file is said plainly (not MRPT's backtrace); a fifo or device is not a log file.
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
@@ -343,6 +415,23 @@ double CarmenReader::fractionRead() const {
 }
 
 bool CarmenReader::next(CarmenEvent& out) {
+  if (!probed_) probeTimes();
+  if (!ahead_.empty()) {
+    out = std::move(ahead_.front());
+    ahead_.pop_front();
+  } else if (probe_fault_) {
+    // A fault met while reading ahead comes after every event read before it.
+    std::exception_ptr fault = probe_fault_;
+    probe_fault_ = nullptr;
+    std::rethrow_exception(fault);
+  } else if (!readEvent(out)) {
+    return false;
+  }
+  if (retime_) retime(out);
+  return true;
+}
+
+bool CarmenReader::readEvent(CarmenEvent& out) {
   std::string line;
   while (input_->next(line)) {
     ++stats_.records;
@@ -351,6 +440,8 @@ bool CarmenReader::next(CarmenEvent& out) {
         throw CarmenParseError("a NUL byte: not a line of text");
       }
       if (handleLine(line, out)) return true;
+    } catch (const CarmenSubnormalNumber&) {
+      skip("line with a subnormal number");
     } catch (const CarmenParseError& e) {
       if (!options_.skip_bad_lines) {
         throw InputError(path_ + ":" + std::to_string(input_->lineNumber()) + ": " + e.what());
@@ -361,10 +452,63 @@ bool CarmenReader::next(CarmenEvent& out) {
   return false;
 }
 
+void CarmenReader::probeTimes() {
+  probed_ = true;
+  std::set<double> times;
+  std::size_t scans = 0;
+  try {
+    CarmenEvent e;
+    while (scans < kTimeProbeScans && ahead_.size() < kTimeProbeEvents && readEvent(e)) {
+      if (e.kind == CarmenEvent::Kind::Scan) {
+        ++scans;
+        times.insert(e.t);
+      }
+      ahead_.push_back(std::move(e));
+    }
+  } catch (const InputError&) {
+    probe_fault_ = std::current_exception();
+  }
+  if (times.size() > 2 || times.size() >= scans) return;
+  retime_ = true;
+  const bool zero = times.size() == 1 && *times.begin() == 0;
+  warn("its first " + std::to_string(scans) + " laser lines carry " +
+       (zero ? std::string("timestamp 0 only")
+             : "only " + std::to_string(times.size()) + " distinct timestamps") +
+       ": time cannot order them, so each scan is timed by its place in the log at a nominal " +
+       formatDeg(kNominalRate) + " Hz (scan k at k/" + formatDeg(kNominalRate) +
+       " s) and each ODOM line at the scan before it");
+}
+
+void CarmenReader::retime(CarmenEvent& e) {
+  if (e.kind == CarmenEvent::Kind::Scan) {
+    retimed_t_ = static_cast<double>(retimed_scans_++) / kNominalRate;
+    e.scan->timestamp = mrpt::Clock::fromDouble(retimed_t_);
+  }
+  e.t = retimed_t_;
+}
+
+void CarmenReader::applyParam(const std::string& name, const std::string& value) {
+  std::string note;
+  if (!params_.applyParam(name, value, &note)) {
+    skip("PARAM not used");
+  } else if (!note.empty()) {
+    warn("line " + std::to_string(input_->lineNumber()) + ": " + note);
+  }
+}
+
+void CarmenReader::checkGeometry(const CarmenLaser& laser) {
+  bool& checked = geometry_checked_[static_cast<int>(laser.kind)];
+  if (checked || laser.kind == CarmenLaserKind::Robot) return;
+  checked = true;
+  const CarmenLaserParams& lp = laser.kind == CarmenLaserKind::Rear ? params_.rear : params_.front;
+  const std::string what = geometryDisagreement(laser.ranges.size(), lp, options_);
+  if (!what.empty()) warn("line " + std::to_string(input_->lineNumber()) + ": " + what);
+}
+
 bool CarmenReader::handleLine(const std::string& line, CarmenEvent& out) {
   CarmenLine parsed = parseCarmenLine(line);
   if (parsed.param) {
-    if (!params_.applyParam(parsed.param->first, parsed.param->second)) skip("PARAM not used");
+    applyParam(parsed.param->first, parsed.param->second);
     return false;
   }
   if (parsed.odometry) {
@@ -389,6 +533,7 @@ bool CarmenReader::handleLine(const std::string& line, CarmenEvent& out) {
     out.kind = CarmenEvent::Kind::Scan;
     out.line = input_->lineNumber();
     out.t = laser.t;
+    checkGeometry(laser);
     out.scan = makeScan(laser, params_, options_);
     out.pose = mrpt::poses::CPose2D(laser.pose);
     if (laser.odometry) {
@@ -447,23 +592,23 @@ namespace {
 class CarmenSource : public ScanSource {
  public:
   CarmenSource(const std::string& path, PoseSource source, const CarmenOptions& options)
-      : reader_(path, options), source_(source) {}
+      : reader_(path, options),
+        source_(source),
+        odom_lines_(source == PoseSource::Odometry &&
+                    options.odometry == CarmenOdometrySource::OdomLines),
+        odom_(options.odometry_track) {}
 
   bool next(ScanRecord& out) override {
+    if (odom_lines_) return nextOnOdomLines(out);
     CarmenEvent e;
     while (reader_.next(e)) {
       if (e.kind != CarmenEvent::Kind::Scan) continue;
-      out.index = next_index_++;
-      out.t = e.t;
-      out.scan = e.scan;
+      out = record(e);
       if (source_ == PoseSource::Odometry) {
         if (!e.odometry) {
-          throw InputError(path() + ":" + std::to_string(e.line) + ": scan " +
-                           std::to_string(out.index) + " has no odometry (no ODOM line before it)");
+          throw InputError(where(e, out.index) + " has no odometry (no ODOM line before it)");
         }
         out.pose = *e.odometry;
-      } else {
-        out.pose = e.pose;
       }
       return true;
     }
@@ -473,10 +618,83 @@ class CarmenSource : public ScanSource {
   const SourceStats& stats() const override { return reader_.stats(); }
   const std::string& path() const override { return reader_.path(); }
   double fractionRead() const override { return reader_.fractionRead(); }
+  std::string poseDetail() const override {
+    if (source_ != PoseSource::Odometry) return "each laser line's own pose";
+    return odom_lines_ ? "the ODOM lines, interpolated to each scan's time"
+                       : "the odometry fields of each laser line";
+  }
 
  private:
+  struct Pending {
+    std::size_t line;
+    ScanRecord rec;
+  };
+  static constexpr std::size_t kMaxPending = 10000;
+  static constexpr double kOdomHistory_s = 10.0;
+
+  ScanRecord record(const CarmenEvent& e) {
+    ScanRecord r;
+    r.index = next_index_++;
+    r.t = e.t;
+    r.scan = e.scan;
+    r.pose = e.pose;
+    return r;
+  }
+  std::string where(const CarmenEvent& e, std::size_t index) const {
+    return path() + ":" + std::to_string(e.line) + ": scan " + std::to_string(index);
+  }
+
+  /// Scans wait until the ODOM lines around their time have been read.
+  bool nextOnOdomLines(ScanRecord& out) {
+    CarmenEvent e;
+    while (true) {
+      if (resolveFront(eof_, out)) return true;
+      if (eof_) return false;
+      if (!reader_.next(e)) {
+        eof_ = true;
+        continue;
+      }
+      if (reader_.retimed()) {
+        throw InputError(path() +
+                         ": the ODOM lines cannot be interpolated to the scans' times: "
+                         "the log's timestamps are degenerate (use the laser lines' "
+                         "odometry: --carmen-odometry laser)");
+      }
+      if (e.kind == CarmenEvent::Kind::Odometry) {
+        odom_.add(e.t, *e.odometry);
+        continue;
+      }
+      pending_.push_back({e.line, record(e)});
+      if (pending_.size() > kMaxPending) {
+        throw InputError(where(e, pending_.front().rec.index) + " has no ODOM line within " +
+                         std::to_string(kMaxPending) + " scans after it");
+      }
+    }
+  }
+
+  bool resolveFront(bool complete, ScanRecord& out) {
+    if (pending_.empty()) return false;
+    Pending& p = pending_.front();
+    const PoseTrack::Lookup r = odom_.at(p.rec.t, p.rec.pose, complete);
+    if (r == PoseTrack::Lookup::kLater) return false;
+    if (r != PoseTrack::Lookup::kFound) {
+      throw InputError(path() + ":" + std::to_string(p.line) + ": scan " +
+                       std::to_string(p.rec.index) + " (t=" + std::to_string(p.rec.t) +
+                       ") has no ODOM line within " + std::to_string(odom_.maxGap()) +
+                       " s around it (see [input] pose_max_gap)");
+    }
+    out = std::move(p.rec);
+    pending_.pop_front();
+    odom_.forgetBefore(out.t - kOdomHistory_s);
+    return true;
+  }
+
   CarmenReader reader_;
   PoseSource source_;
+  bool odom_lines_;
+  PoseTrack odom_;
+  std::deque<Pending> pending_;
+  bool eof_ = false;
   std::size_t next_index_ = 0;
 };
 

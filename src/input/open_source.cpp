@@ -24,11 +24,19 @@ std::unique_ptr<ScanSource> openBag(const std::string& path, PoseSource source,
 #endif
 }
 
+/// A simplemap's first object: CSimpleMap, or CSensFrameProbSequence, its name before MRPT 1.0
+/// (MRPT's own localization_demo.simplemap.gz), which MRPT 2.5 still reads as a CSimpleMap.
+bool isSimplemapHead(const std::string& head) {
+  return head.find("CSimpleMap") != std::string::npos ||
+         head.find("CSensFrameProbSequence") != std::string::npos;
+}
+
 /// `slam`: the run asked for pose source slam, which needs the log's odometry.
-std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource source, bool slam) {
+std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource source, bool slam,
+                                        const PoseTrackOptions& track) {
   const std::string head = fileHead(path, 256);
   if (head.empty()) throw InputError(path + ": empty file");
-  if (head.find("CSimpleMap") != std::string::npos) {
+  if (isSimplemapHead(head)) {
     if (source != PoseSource::Auto && source != PoseSource::Simplemap &&
         source != PoseSource::Fixed) {
       throw InputError(path + ": a simplemap only carries simplemap poses (asked for " +
@@ -47,9 +55,6 @@ std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource sour
   if (slam && !peekRawlog(path).odometry) {
     throw InputError(path + ": pose source slam needs odometry, and the log has none");
   }
-  if (slam && !peekRawlog(path).odometry) {
-    throw InputError(path + ": pose source slam needs odometry, and the log has none");
-  }
   if (source == PoseSource::Auto) {
     const RawlogPeek peek = peekRawlog(path);
     if (peek.ground_truth || fileExists(companionGroundTruth(path))) {
@@ -62,7 +67,7 @@ std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource sour
                        "robot that stands still)");
     }
   }
-  return openRawlogSource(path, source);
+  return openRawlogSource(path, source, track);
 }
 
 }  // namespace
@@ -85,9 +90,11 @@ std::unique_ptr<ScanSource> openScanSource(const std::string& path, const InputO
   if (looksLikeRosBag(path)) {
     inner = openBag(path, source, options.bag);
   } else if (looksLikeCarmen(path)) {
-    inner = openCarmenSource(path, source, options.carmen);
+    CarmenOptions carmen = options.carmen;
+    carmen.odometry_track = options.pose_track;
+    inner = openCarmenSource(path, source, carmen);
   } else {
-    inner = openMrptLog(path, source, slam);
+    inner = openMrptLog(path, source, slam, options.pose_track);
   }
   if (source == PoseSource::Fixed) return withFixedPose(std::move(inner), options.fixed_pose);
   return inner;

@@ -25,8 +25,11 @@ using mrpt::obs::CObservation2DRangeScan;
 /// time from the chosen pose source.
 class RawlogSource : public ScanSource {
  public:
-  RawlogSource(const std::string& path, PoseSource source)
-      : path_(path), source_(source), bytes_(static_cast<double>(uncompressedSize(path))) {
+  RawlogSource(const std::string& path, PoseSource source, const PoseTrackOptions& track)
+      : path_(path),
+        source_(source),
+        bytes_(static_cast<double>(uncompressedSize(path))),
+        poses_(trackOptions(track, source)) {
     if (!in_.open(path)) throw InputError(path + ": cannot open");
     if (source_ == PoseSource::GroundTruth && !hasGroundTruthInLog(path)) {
       const std::string gt = companionGroundTruth(path);
@@ -44,6 +47,12 @@ class RawlogSource : public ScanSource {
   }
 
   static bool hasGroundTruthInLog(const std::string& path);
+
+  /// Ground truth whose times repeat cannot place a scan: an error, not the first pose.
+  static PoseTrackOptions trackOptions(PoseTrackOptions o, PoseSource source) {
+    o.shared_time_ambiguous = source == PoseSource::GroundTruth;
+    return o;
+  }
 
   bool next(ScanRecord& out) override {
     while (true) {
@@ -70,6 +79,7 @@ class RawlogSource : public ScanSource {
     std::size_t index;
     double t;
     CObservation2DRangeScan::Ptr scan;
+    std::size_t samples_before;  // poses_.added() when the scan was read
   };
 
   void readRecord() {
@@ -148,7 +158,7 @@ class RawlogSource : public ScanSource {
       if (!std::isfinite(t)) {
         throw InputError(path_ + ": scan " + std::to_string(index) + " has no timestamp");
       }
-      pending_.push_back({index, t, scan});
+      pending_.push_back({index, t, scan, poses_.added()});
       if (pending_.size() > kMaxPending) {
         throw InputError(path_ + ": scan " + std::to_string(pending_.front().index) + " has no " +
                          toString(source_) + " pose within " + std::to_string(kMaxPending) +
@@ -169,17 +179,22 @@ class RawlogSource : public ScanSource {
   void resolvePending(bool final) {
     while (!pending_.empty()) {
       Pending& p = pending_.front();
+      // Poses from a file are all there; from the log, the scan's own pose may follow it (a
+      // scan stamped before poses already read, its clock stepped back, must not be
+      // interpolated between others): a scan waits for at least one sample read after it.
+      const bool complete = final || poses_from_file_;
+      if (!complete && source_ != PoseSource::Fixed && poses_.added() == p.samples_before) return;
       mrpt::poses::CPose2D pose;  // the origin under Fixed: withFixedPose sets the pose
       const PoseTrack::Lookup r =
-          source_ == PoseSource::Fixed ? PoseTrack::Lookup::kFound : poses_.at(p.t, pose, final);
+          source_ == PoseSource::Fixed ? PoseTrack::Lookup::kFound : poses_.at(p.t, pose, complete);
       if (r == PoseTrack::Lookup::kLater) return;  // wait for a later pose
       if (r != PoseTrack::Lookup::kFound) {
+        if (!ready_.empty()) return;  // the scans before it go out first; the error next
         if (final && !fault_.empty()) {  // the fault, not the pose, is what went wrong
           pending_.clear();
           return;
         }
-        throw InputError(path_ + ": scan " + std::to_string(p.index) +
-                         " (t=" + std::to_string(p.t) + ") has no " + toString(source_) + " pose");
+        throw InputError(path_ + ": " + noPose(p, r));
       }
       const double t = p.t;
       ready_.push_back({p.index, t, pose, std::move(p.scan)});
@@ -188,6 +203,17 @@ class RawlogSource : public ScanSource {
       // still finds its pose.
       poses_.forgetBefore(t - kPoseHistory_s);
     }
+  }
+
+  std::string noPose(const Pending& p, PoseTrack::Lookup r) const {
+    const std::string scan = "scan " + std::to_string(p.index) + " (t=" + std::to_string(p.t) + ")";
+    if (r == PoseTrack::Lookup::kAmbiguous) {
+      return scan + ": several different " + toString(source_) +
+             " poses share its timestamp, so time cannot place it (the log's timestamps repeat: "
+             "all zero, or the time of a conversion?)";
+    }
+    return scan + " has no " + toString(source_) + " pose within " +
+           std::to_string(poses_.maxGap()) + " s (see [input] pose_max_gap)";
   }
 
   bool flushPending(ScanRecord& out) {
@@ -256,8 +282,9 @@ bool RawlogSource::hasGroundTruthInLog(const std::string& path) {
   return peekRawlog(path).ground_truth;
 }
 
-std::unique_ptr<ScanSource> openRawlogSource(const std::string& path, PoseSource source) {
-  return std::make_unique<RawlogSource>(path, source);
+std::unique_ptr<ScanSource> openRawlogSource(const std::string& path, PoseSource source,
+                                             const PoseTrackOptions& track) {
+  return std::make_unique<RawlogSource>(path, source, track);
 }
 
 }  // namespace dynamap

@@ -91,6 +91,16 @@ void stopIfCancelled(const MapJob& job) {
   if (job.cancelled && job.cancelled()) throw RunCancelled("the run was interrupted");
 }
 
+/// How the job's log is read, whatever the pose source: the format options and [input]'s.
+InputOptions inputOptions(const MapJob& job) {
+  InputOptions input;
+  input.carmen = job.carmen;
+  input.carmen.odometry = job.config.carmen_odometry;
+  input.pose_track.max_gap = job.config.pose_max_gap;
+  input.bag = job.bag;
+  return input;
+}
+
 /// Pose source slam, pass 1: the whole trajectory, then `source` replaced by pass 2's (the log
 /// opened again, each scan's pose the optimised one) and `config` saying slam.
 std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
@@ -102,10 +112,8 @@ std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
     if (job.progress) job.progress(first.fractionRead(), done);
   }));
   config.poses = PoseSource::Slam;  // config.ini says what ran
-  InputOptions input;               // the log read again the same way
+  InputOptions input = inputOptions(job);  // the log read again the same way
   input.poses = PoseSource::Slam;
-  input.carmen = job.carmen;
-  input.bag = job.bag;
   source = std::make_unique<OptimisedPoseSource>(openScanSource(job.input, input), run->poses);
   if (job.on_pass) job.on_pass(2);
   return run;
@@ -114,11 +122,9 @@ std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
 // The run with every output written into `stage`, committed at the end.
 MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   const std::string& dir = stage.path();
-  InputOptions input;
+  InputOptions input = inputOptions(job);
   input.poses = job.config.poses;
   input.fixed_pose = job.config.fixed_pose;
-  input.carmen = job.carmen;
-  input.bag = job.bag;
   auto source = openScanSource(job.input, input);
   MapConfig config = job.config;
   std::unique_ptr<SlamRun> slam;
@@ -145,6 +151,7 @@ MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   stopIfCancelled(job);  // a signal while the files were written: keep the previous set
   stage.commit();
   r.pose_source = mapper.poseSourceName(*source);
+  r.pose_detail = source->poseDetail();
   r.counts = mapper.counts();
   r.source_stats = source->stats();
   r.scan_matching = mapper.scanMatching();

@@ -109,10 +109,8 @@ Json timingSummary(const RunCounts& c, const OutputInfo& info) {
 Json scanSummary(const RunCounts& c, const SourceStats& s) {
   std::size_t skipped = 0;
   for (const auto& kv : c.scans_skipped) skipped += kv.second;
-  auto reasons = c.scans_skipped;
-  for (const auto& kv : s.skipped) reasons[kv.first] += kv.second;
   Json by_reason = Json::object();
-  for (const auto& kv : reasons) by_reason[kv.first] = kv.second;
+  for (const auto& kv : c.scans_skipped) by_reason[kv.first] = kv.second;
   return {{"read", s.scans},
           {"used", c.scans_used},
           {"skipped", skipped},
@@ -121,6 +119,18 @@ Json scanSummary(const RunCounts& c, const SourceStats& s) {
           {"timestamps_backwards", c.time_backwards},
           {"first_t", jsonNumber("%.6f", c.first_t)},
           {"last_t", jsonNumber("%.6f", c.last_t)}};
+}
+
+/// The records (lines, messages) of the input that were not scans: a CARMEN comment line is a
+/// line skipped, never a scan skipped.
+Json recordsSkipped(const SourceStats& s) {
+  std::size_t total = 0;
+  Json by_reason = Json::object();
+  for (const auto& kv : s.skipped) {
+    total += kv.second;
+    by_reason[kv.first] = kv.second;
+  }
+  return {{"unit", s.record_unit}, {"total", total}, {"by_reason", by_reason}};
 }
 
 Json summary(const Mapper& mapper, const ScanSource& source, const OutputInfo& info) {
@@ -132,7 +142,10 @@ Json summary(const Mapper& mapper, const ScanSource& source, const OutputInfo& i
       {"pose_source", mapper.poseSourceName(source)},
       {"complete_input", info.outcome.fault.empty()},
       {"input_fault", info.outcome.fault.empty() ? Json(nullptr) : Json(info.outcome.fault)},
+      {"pose_detail", source.poseDetail()},
+      {"input_warnings", source.stats().warnings},
       {"records_read", source.stats().records},
+      {"records_skipped", recordsSkipped(source.stats())},
       {"scans", scanSummary(c, source.stats())},
       {"map",
        {{"resolution_m", jsonNumber("%.6g", m.getResolution())},

@@ -23,7 +23,7 @@ MapConfig MapConfig::load(const IniFile& ini) {
   c.people.load(ini);
   c.scan_matching.load(ini);
   c.slam.load(ini);
-  ini.requireKnownKeys("input", {"poses", "fixed_pose"});
+  ini.requireKnownKeys("input", {"poses", "fixed_pose", "pose_max_gap", "carmen_odometry"});
   const std::string poses = ini.getString("input", "poses", "auto");
   try {
     c.poses = parsePoseSource(poses);
@@ -34,6 +34,13 @@ MapConfig MapConfig::load(const IniFile& ini) {
     c.fixed_pose = parseFixedPose(ini.getString("input", "fixed_pose", "0 0 0"));
   } catch (const std::invalid_argument& e) {
     ini.fail("input", "fixed_pose", e.what());
+  }
+  c.pose_max_gap = ini.getDouble("input", "pose_max_gap", 0);
+  requireInRange(ini.name(), "input", "pose_max_gap", c.pose_max_gap, 0, 3600, "in [0, 3600]");
+  try {
+    c.carmen_odometry = parseCarmenOdometry(ini.getString("input", "carmen_odometry", "laser"));
+  } catch (const std::invalid_argument& e) {
+    ini.fail("input", "carmen_odometry", e.what());
   }
   return c;
 }
@@ -46,6 +53,12 @@ void MapConfig::writeIni(std::ostream& out) const {
   // Only a fixed-pose run has a fixed pose to reproduce; every other config.ini stays as it was.
   if (poses == PoseSource::Fixed) {
     out << "fixed_pose = " << formatFixedPose(fixed_pose) << "  ; [m m rad] x y phi\n";
+  }
+  // Like fixed_pose: written when it differs from the default, so other runs' files stay as
+  // they were.
+  if (pose_max_gap != 0) out << "pose_max_gap = " << pose_max_gap << "  ; [s]\n";
+  if (carmen_odometry != CarmenOdometrySource::LaserLines) {
+    out << "carmen_odometry = " << toString(carmen_odometry) << "  ; laser | odom\n";
   }
   out << "\n";
   map.writeIni(out);
@@ -69,7 +82,15 @@ std::vector<OptionDoc> MapConfig::describe() {
       {"input", "poses", toString(defaults.poses), "", "where each scan's robot pose comes from",
        "auto, simplemap, ground_truth, odometry, scan_matching, fixed, slam"},
       {"input", "fixed_pose", formatFixedPose(defaults.fixed_pose), "",
-       "x y phi [m m rad]: the pose of every scan with poses = fixed", "three finite numbers"}};
+       "x y phi [m m rad]: the pose of every scan with poses = fixed", "three finite numbers"},
+      {"input", "pose_max_gap", "0", "s",
+       "widest gap between two pose samples (ground truth, odometry, ODOM lines) a scan's pose "
+       "is interpolated across; 0: 3 x the samples' median spacing, at least 2 s",
+       "[0, 3600]"},
+      {"input", "carmen_odometry", toString(defaults.carmen_odometry), "",
+       "a CARMEN log's odometry for poses = odometry: laser (each laser line's odometry "
+       "fields) or odom (the ODOM lines, interpolated to each scan's time)",
+       "laser, odom"}};
   for (auto&& more : {DynamicMapOptions::table().describe(defaults.map),
                       InsertionOptions::table().describe(defaults.insertion),
                       ObjectOptions::table().describe(defaults.objects),

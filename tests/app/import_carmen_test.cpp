@@ -96,18 +96,17 @@ TEST_F(ImportCarmenTest, RawlogReadsBackInLogOrderWithGroundTruthFile) {
 
   using namespace mrpt::obs;
   const auto objs = readRawlog(path("out.rawlog"));
-  // ODOM; FLASER: odometry, scan, GT; ODOM; ROBOTLASER1: odometry (the last ODOM), scan, GT.
+  // FLASER: odometry (its odom fields), scan, GT; ROBOTLASER1: odometry (the last ODOM), scan,
+  // GT. The ODOM lines are not the odometry stream by default (--carmen-odometry laser).
   const std::vector<std::pair<std::string, std::string>> want = {
-      {"mrpt::obs::CObservationOdometry", "ODOMETRY"},
       {"mrpt::obs::CObservationOdometry", "ODOMETRY"},
       {"mrpt::obs::CObservation2DRangeScan", "LASER"},
       {"mrpt::obs::CObservationRobotPose", "GT"},
       {"mrpt::obs::CObservationOdometry", "ODOMETRY"},
-      {"mrpt::obs::CObservationOdometry", "ODOMETRY"},
       {"mrpt::obs::CObservation2DRangeScan", "LASER"},
       {"mrpt::obs::CObservationRobotPose", "GT"}};
   ASSERT_EQ(objs.size(), want.size());
-  const double times[] = {10.0, 10.5, 10.5, 10.5, 11.0, 11.5, 11.5, 11.5};
+  const double times[] = {10.5, 10.5, 10.5, 11.5, 11.5, 11.5};
   for (std::size_t k = 0; k < want.size(); ++k) {
     auto obs = std::dynamic_pointer_cast<CObservation>(objs[k]);
     ASSERT_TRUE(obs) << k;
@@ -115,13 +114,30 @@ TEST_F(ImportCarmenTest, RawlogReadsBackInLogOrderWithGroundTruthFile) {
     EXPECT_EQ(obs->sensorLabel, want[k].second) << k;
     EXPECT_NEAR(mrpt::Clock::toDouble(obs->timestamp), times[k], 1e-6) << k;
   }
-  const auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(objs[2]);
+  const auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(objs[1]);
   EXPECT_EQ(scan->getScanSize(), 180u);
   EXPECT_NEAR(scan->aperture, 179 * M_PI / 180, 1e-5);
-  const auto gt = std::dynamic_pointer_cast<CObservationRobotPose>(objs[3]);
+  const auto gt = std::dynamic_pointer_cast<CObservationRobotPose>(objs[2]);
   EXPECT_NEAR(gt->pose.mean.x(), 5, 1e-9);
-  const auto odo = std::dynamic_pointer_cast<CObservationOdometry>(objs[1]);
+  const auto odo = std::dynamic_pointer_cast<CObservationOdometry>(objs[0]);
   EXPECT_NEAR(odo->odometry.x(), 4, 1e-9);
+  // --carmen-odometry odom: the ODOM lines (with their velocities) are the odometry instead.
+  ASSERT_EQ(run("import-carmen " + log + " --carmen-odometry odom --out " + path("odom.rawlog"),
+                &output),
+            0)
+      << output;
+  const auto odom = readRawlog(path("odom.rawlog"));
+  ASSERT_EQ(odom.size(), 6u);
+  const double odom_times[] = {10.0, 10.5, 10.5, 11.0, 11.5, 11.5};
+  for (std::size_t k = 0; k < odom.size(); ++k) {
+    auto obs = std::dynamic_pointer_cast<CObservation>(odom[k]);
+    ASSERT_TRUE(obs) << k;
+    EXPECT_NEAR(mrpt::Clock::toDouble(obs->timestamp), odom_times[k], 1e-6) << k;
+  }
+  const auto line_odo = std::dynamic_pointer_cast<CObservationOdometry>(odom[3]);
+  ASSERT_TRUE(line_odo);
+  EXPECT_NEAR(line_odo->odometry.x(), 1.5, 1e-9);
+  EXPECT_TRUE(line_odo->hasVelocities);
 
   const auto gt_lines = lines(path("out.gt.txt"));
   ASSERT_EQ(gt_lines.size(), 2u);
@@ -148,16 +164,18 @@ TEST_F(ImportCarmenTest, BadLineFailsNamingItAndLeavesNoOutput) {
 TEST_F(ImportCarmenTest, CommandLine) {
   std::string output;
   EXPECT_EQ(run("import-carmen --help", &output), 0);
-  for (const char* opt : {"--out", "--fov", "--skip-bad-lines"}) {
+  for (const char* opt : {"--out", "--fov", "--skip-bad-lines", "--carmen-odometry"}) {
     EXPECT_NE(output.find(opt), std::string::npos) << opt;
   }
   const std::string log = write("in.log", sampleLog());
   EXPECT_EQ(run("import-carmen " + log), 2);  // no --out
   EXPECT_EQ(run("import-carmen " + log + " --out " + path("o.rawlog") + " --fov -3"), 2);
+  EXPECT_EQ(run("import-carmen " + log + " --out " + path("o.rawlog") + " --carmen-odometry x"), 2);
   EXPECT_EQ(run("import-carmen " + path("missing.log") + " --out " + path("o.rawlog")), 1);
   EXPECT_EQ(run("import-carmen " + log + " --out " + path("o.rawlog") + " --fov 90"), 0);
   const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(
-      readRawlog(path("o.rawlog"))[2]);
+      readRawlog(path("o.rawlog")).at(1));
+  ASSERT_TRUE(scan);
   EXPECT_NEAR(scan->aperture, 89.5 * M_PI / 180, 1e-5);  // 180 beams over 90 deg
 }
 

@@ -37,11 +37,66 @@ TEST(PoseTrack, TheHeadingTurnsTheShortWayAcrossPi) {
 }
 
 TEST(PoseTrack, NoPoseAcrossAGapWiderThanTheLimit) {
-  PoseTrack track;
+  PoseTrackOptions options;
+  options.max_gap = 2.0;
+  PoseTrack track(options);
   track.add(0.0, CPose2D(0, 0, 0));
-  track.add(PoseTrack::kMaxGap + 0.5, CPose2D(1, 0, 0));
+  track.add(2.5, CPose2D(1, 0, 0));
   CPose2D p;
   EXPECT_EQ(track.at(1.0, p, false), Lookup::kMissing);
+  EXPECT_DOUBLE_EQ(track.maxGap(), 2.0);
+}
+
+// The automatic limit follows the track's own spacing: 3 x the median gap, never under 2 s.
+TEST(PoseTrack, TheAutomaticGapLimitFollowsTheSpacing) {
+  PoseTrack sparse;  // a pose every 4 s (a log of scans 3-5 s apart)
+  for (int k = 0; k <= 10; ++k) sparse.add(4.0 * k + (k == 5 ? 1.0 : 0.0), CPose2D(k, 0, 0));
+  EXPECT_DOUBLE_EQ(sparse.maxGap(), 12.0);
+  CPose2D p;
+  ASSERT_EQ(sparse.at(2.0, p, false), Lookup::kFound);
+  EXPECT_DOUBLE_EQ(p.x(), 0.5);
+  PoseTrack dense;  // 10 Hz: the floor of 2 s
+  for (int k = 0; k <= 20; ++k) dense.add(0.1 * k, CPose2D(k, 0, 0));
+  EXPECT_DOUBLE_EQ(dense.maxGap(), PoseTrack::kMinAutoGap);
+  dense.add(10.0, CPose2D(100, 0, 0));
+  EXPECT_EQ(dense.at(5.0, p, false), Lookup::kMissing);
+}
+
+// A time off its sample by a rounding error (a printed %.6f against MRPT's 100 ns clock) is that
+// sample, even where the samples around are further apart than the gap limit.
+TEST(PoseTrack, ATimeWithinTheToleranceOfASampleIsThatSample) {
+  PoseTrackOptions options;
+  options.max_gap = 2.0;
+  PoseTrack track(options);
+  track.add(100.0, CPose2D(0, 0, 0));
+  track.add(104.000000, CPose2D(4, 0, 0));
+  track.add(108.0, CPose2D(8, 0, 0));
+  CPose2D p;
+  ASSERT_EQ(track.at(104.0000004, p, false), Lookup::kFound);
+  EXPECT_DOUBLE_EQ(p.x(), 4.0);
+  ASSERT_EQ(track.at(103.9999996, p, false), Lookup::kFound);
+  EXPECT_DOUBLE_EQ(p.x(), 4.0);
+  EXPECT_EQ(track.at(103.99, p, false), Lookup::kMissing);  // beyond the tolerance: a gap
+}
+
+// Timestamps that repeat (all 0) with different poses: time cannot pick one.
+TEST(PoseTrack, DifferentPosesSharingATimeAreAmbiguousWhenAsked) {
+  PoseTrackOptions strict;
+  strict.shared_time_ambiguous = true;
+  PoseTrack track(strict), odometry;
+  for (int k = 0; k < 5; ++k) {
+    track.add(0.0, CPose2D(k, 0, 0));
+    odometry.add(0.0, CPose2D(k, 0, 0));
+  }
+  CPose2D p;
+  EXPECT_EQ(track.at(0.0, p, true), Lookup::kAmbiguous);
+  ASSERT_EQ(odometry.at(0.0, p, true), Lookup::kFound);  // not asked: the first one added
+  EXPECT_DOUBLE_EQ(p.x(), 0.0);
+  PoseTrack same(strict);  // the same pose twice is no ambiguity
+  same.add(1.0, CPose2D(1, 2, 0));
+  same.add(1.0, CPose2D(1, 2, 0));
+  ASSERT_EQ(same.at(1.0, p, true), Lookup::kFound);
+  EXPECT_DOUBLE_EQ(p.y(), 2.0);
 }
 
 TEST(PoseTrack, TheEndsTakeTheNearestSampleOnlyWithinTheirTolerance) {
@@ -51,9 +106,9 @@ TEST(PoseTrack, TheEndsTakeTheNearestSampleOnlyWithinTheirTolerance) {
   EXPECT_EQ(track.at(5.05, p, false), Lookup::kLater);  // a later sample may still come
   ASSERT_EQ(track.at(5.05, p, true), Lookup::kFound);   // none will: the last one
   EXPECT_DOUBLE_EQ(p.x(), 1.0);
-  EXPECT_EQ(track.at(5.0 + PoseTrack::kEndTolerance + 0.05, p, true), Lookup::kMissing);
+  EXPECT_EQ(track.at(5.0 + PoseTrackOptions().end_tolerance + 0.05, p, true), Lookup::kMissing);
   ASSERT_EQ(track.at(4.95, p, false), Lookup::kFound);  // just before the first
-  EXPECT_EQ(track.at(5.0 - PoseTrack::kEndTolerance - 0.05, p, false), Lookup::kMissing);
+  EXPECT_EQ(track.at(5.0 - PoseTrackOptions().end_tolerance - 0.05, p, false), Lookup::kMissing);
 }
 
 TEST(PoseTrack, LateSamplesAreSortedInAndOldOnesForgotten) {

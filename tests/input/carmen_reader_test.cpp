@@ -395,5 +395,191 @@ TEST(CarmenParams, OnlyTheLaserOnesMatter) {
   EXPECT_FALSE(p.rear.offset_x);
 }
 
+// --- real-log quirks ---------------------------------------------------------------------------
+
+namespace quirks {
+
+/// An FLASER line of `n` beams at pose (x, 0, 0) stamped t; odom fields (ox, 0, 0).
+std::string flaser(std::size_t n, double x, double t, double ox = 0) {
+  return "FLASER " + std::to_string(n) + ranges(n) + " " + num(x) + " 0 0 " + num(ox) + " 0 0 " +
+         num(t) + " host " + num(t) + "\n";
+}
+std::string odom(double x, double t) {
+  return "ODOM " + num(x) + " 0 0 0 0 0 " + num(t) + " host " + num(t) + "\n";
+}
+
+bool anyContains(const std::vector<std::string>& v, const std::string& what) {
+  for (const auto& s : v) {
+    if (s.find(what) != std::string::npos) return true;
+  }
+  return false;
+}
+
+}  // namespace quirks
+
+TEST(CarmenNumbers, FromCharsAsStrtodDidSubnormalsApart) {
+  double v = 0;
+  EXPECT_EQ(parseCarmenNumber("+1.5", v), CarmenNumber::kOk);
+  EXPECT_DOUBLE_EQ(v, 1.5);
+  EXPECT_EQ(parseCarmenNumber("-0.25e1", v), CarmenNumber::kOk);
+  EXPECT_DOUBLE_EQ(v, -2.5);
+  EXPECT_EQ(parseCarmenNumber("5.45506e-312", v), CarmenNumber::kSubnormal);
+  EXPECT_EQ(parseCarmenNumber("1e400", v), CarmenNumber::kNotFinite);
+  EXPECT_EQ(parseCarmenNumber("nan", v), CarmenNumber::kNotFinite);
+  EXPECT_EQ(parseCarmenNumber("1.5x", v), CarmenNumber::kNotNumber);
+  EXPECT_EQ(parseCarmenNumber("+-1", v), CarmenNumber::kNotNumber);
+  EXPECT_EQ(parseCarmenNumber("", v), CarmenNumber::kNotNumber);
+  // The same double as strtod, bit for bit, for numbers written the ways logs write them.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-2000.0, 2000.0);
+  for (int i = 0; i < 20000; ++i) {
+    char buf[64];
+    const char* fmt = i % 3 == 0 ? "%.6f" : i % 3 == 1 ? "%g" : "%.17g";
+    std::snprintf(buf, sizeof buf, fmt, u(rng) * (i % 7 == 0 ? 1e6 : 1.0));
+    ASSERT_EQ(parseCarmenNumber(buf, v), CarmenNumber::kOk) << buf;
+    ASSERT_EQ(v, std::strtod(buf, nullptr)) << buf;
+  }
+}
+
+TEST_F(CarmenTest, ALineWithASubnormalNumberIsSkippedAndCounted) {
+  using namespace quirks;
+  std::string bad_range = flaser(4, 2, 3.0);
+  bad_range.replace(bad_range.find(" 1.01 "), 6, " 4.9e-320 ");
+  const std::string path =
+      write("subnormal.log", flaser(4, 0, 1.0) + "ODOM 1 0 0 0 0 0 5.45506e-312 host 0\n" +
+                                 flaser(4, 1, 2.0) + bad_range + flaser(4, 3, 4.0));
+  SourceStats stats;
+  const auto events = readAll(path, {}, &stats);
+  ASSERT_EQ(events.size(), 3u);  // the ODOM line and the third laser line are gone
+  EXPECT_DOUBLE_EQ(events[2].pose.x(), 3.0);
+  EXPECT_EQ(events[2].line, 5u);
+  EXPECT_EQ(stats.skipped.at("line with a subnormal number"), 2u);
+  EXPECT_EQ(stats.scans, 3u);
+  EXPECT_EQ(stats.record_unit, "lines");
+}
+
+TEST_F(CarmenTest, AFieldOfViewInRadiansIsReadAsRadiansAndSaidSo) {
+  using namespace quirks;
+  const std::string path =
+      write("rad.log", "PARAM laser_front_laser_fov 3.14159 0 host 0\n" + flaser(181, 0, 1.0));
+  SourceStats stats;
+  const auto events = readAll(path, {}, &stats);
+  ASSERT_EQ(events.size(), 1u);
+  const auto& s = *events[0].scan;
+  EXPECT_NEAR(beamAngle(s, 0), -3.14159 / 2, 1e-6);
+  EXPECT_NEAR(beamAngle(s, 180), 3.14159 / 2, 1e-6);
+  ASSERT_EQ(stats.warnings.size(), 1u);
+  EXPECT_NE(stats.warnings[0].find(path + ": line 1: PARAM laser_front_laser_fov 3.14159 read as "
+                                          "radians (180 deg)"),
+            std::string::npos)
+      << stats.warnings[0];
+  CarmenOptions fov90;  // --fov still decides
+  fov90.fov_deg = 90;
+  const auto over = readAll(path, fov90);
+  EXPECT_NEAR(beamAngle(*over[0].scan, 0), -M_PI / 4, 1e-6);
+  CarmenParams params;  // degrees stay degrees
+  ASSERT_TRUE(params.applyParam("laser_front_laser_fov", "100"));
+  EXPECT_DOUBLE_EQ(*params.front.fov_deg, 100.0);
+}
+
+TEST_F(CarmenTest, AGeometryThatDoesNotAgreeIsAWarningSayingWhatWasAssumed) {
+  using namespace quirks;
+  // 180 beams 0.5 deg apart span 90 deg, not the 180 deg assumed without a fov PARAM.
+  const std::string path = write("geom.log", "PARAM laser_front_laser_resolution 0.5 0 host 0\n" +
+                                                 flaser(180, 0, 1.0) + flaser(180, 0, 2.0));
+  SourceStats stats;
+  const auto events = readAll(path, {}, &stats);
+  ASSERT_EQ(stats.warnings.size(), 1u);  // once, not per line
+  EXPECT_NE(stats.warnings[0].find("geom.log: line 2: 180 beams 0.5 deg apart"), std::string::npos)
+      << stats.warnings[0];
+  EXPECT_NE(stats.warnings[0].find("assumed: beams 0.5 deg apart from -90 deg"), std::string::npos);
+  EXPECT_NEAR(beamAngle(*events[0].scan, 0), -M_PI / 2, 1e-6);
+  SourceStats agree;  // Freiburg's: 360 beams of 0.5 deg over 180
+  readAll(
+      write("ok.log", "PARAM laser_front_laser_resolution 0.5 0 host 0\n" + flaser(360, 0, 1.0)),
+      {}, &agree);
+  EXPECT_TRUE(agree.warnings.empty());
+}
+
+TEST_F(CarmenTest, DegenerateTimestampsAreReplacedByTheLogsOrderWithAWarning) {
+  using namespace quirks;
+  std::string zero, two, fine;
+  for (int k = 0; k < 6; ++k) {
+    zero += flaser(4, k, 0.0) + (k == 2 ? odom(9, 0.5) : "");
+    two += flaser(4, k, k < 3 ? 100.0 : 200.0);
+    fine += flaser(4, k, 100.0 + k);
+  }
+  SourceStats stats;
+  const auto events = readAll(write("zero.log", zero), {}, &stats);
+  ASSERT_EQ(events.size(), 7u);
+  const double want[] = {0.0, 0.1, 0.2, 0.2, 0.3, 0.4, 0.5};  // the ODOM line: its scan's time
+  for (std::size_t k = 0; k < events.size(); ++k) {
+    EXPECT_NEAR(events[k].t, want[k], 1e-12) << k;
+    if (events[k].scan) {
+      EXPECT_NEAR(mrpt::Clock::toDouble(events[k].scan->timestamp), want[k], 1e-6);
+    }
+  }
+  EXPECT_TRUE(anyContains(stats.warnings, "laser lines carry timestamp 0 only"))
+      << stats.warnings[0];
+  SourceStats stats2;
+  const auto events2 = readAll(write("two.log", two), {}, &stats2);
+  EXPECT_NEAR(events2.back().t, 0.5, 1e-12);
+  EXPECT_TRUE(anyContains(stats2.warnings, "only 2 distinct timestamps"));
+  SourceStats stats3;
+  const auto events3 = readAll(write("fine.log", fine), {}, &stats3);
+  EXPECT_DOUBLE_EQ(events3.back().t, 105.0);
+  EXPECT_TRUE(stats3.warnings.empty());
+  // Two scans at two times are a log, not a degenerate one.
+  EXPECT_DOUBLE_EQ(readAll(write("short.log", flaser(4, 0, 7.0) + flaser(4, 1, 8.0)))[1].t, 8.0);
+}
+
+TEST_F(CarmenTest, AFaultWhileReadingAheadComesAfterTheScansBeforeIt) {
+  using namespace quirks;
+  const std::string path = write("fault.log", flaser(4, 0, 1.0) + flaser(4, 1, 2.0) + "FLASER x\n");
+  CarmenReader reader(path, {});
+  CarmenEvent e;
+  ASSERT_TRUE(reader.next(e));
+  ASSERT_TRUE(reader.next(e));
+  try {
+    reader.next(e);
+    FAIL() << "expected the bad line";
+  } catch (const InputError& err) {
+    EXPECT_EQ(std::string(err.what()).rfind(path + ":3:", 0), 0u) << err.what();
+  }
+}
+
+TEST_F(CarmenTest, OdometryFromTheLaserLinesOrFromTheOdomLinesInterpolated) {
+  using namespace quirks;
+  const std::string path =
+      write("two_streams.log", odom(0, 10.0) + flaser(4, 5, 10.25, 7.0) + odom(1, 11.0) +
+                                   flaser(4, 6, 11.0, 8.0) + odom(3, 12.0));
+  CarmenOptions laser, lines;
+  lines.odometry = CarmenOdometrySource::OdomLines;
+  auto a = openCarmenSource(path, PoseSource::Odometry, laser);
+  auto b = openCarmenSource(path, PoseSource::Odometry, lines);
+  EXPECT_EQ(a->poseDetail(), "the odometry fields of each laser line");
+  EXPECT_EQ(b->poseDetail(), "the ODOM lines, interpolated to each scan's time");
+  EXPECT_EQ(openCarmenSource(path, PoseSource::Auto, lines)->poseDetail(),
+            "each laser line's own pose");
+  ScanRecord r;
+  const double want_a[] = {7.0, 8.0}, want_b[] = {0.25, 1.0};
+  for (int k = 0; k < 2; ++k) {
+    ASSERT_TRUE(a->next(r));
+    EXPECT_DOUBLE_EQ(r.pose.x(), want_a[k]);
+    ASSERT_TRUE(b->next(r));
+    EXPECT_DOUBLE_EQ(r.pose.x(), want_b[k]);
+    EXPECT_EQ(r.index, static_cast<std::size_t>(k));
+  }
+  EXPECT_FALSE(b->next(r));
+  // A scan long after the last ODOM line has none: an error naming its line.
+  const std::string late = write("late.log", odom(0, 10.0) + odom(1, 11.0) + flaser(4, 0, 30.0));
+  try {
+    openCarmenSource(late, PoseSource::Odometry, lines)->next(r);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(late + ":3: scan 0", 0), 0u) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace dynamap

@@ -196,6 +196,18 @@ TEST(ScanSource, SimplemapOfMrptsExamples) {
             std::string::npos);
 }
 
+// The simplemap format before MRPT 1.0 (CSensFrameProbSequence of CSensorialFrame): 72 keyframes.
+TEST(ScanSource, OldFormatSimplemapOfMrptsExamples) {
+  const std::string path = "/usr/share/mrpt/datasets/localization_demo.simplemap.gz";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "mrpt-common's datasets are not installed";
+  auto src = openScanSource(path, PoseSource::Auto);
+  EXPECT_EQ(src->poseSource(), PoseSource::Simplemap);
+  const auto recs = readAll(*src);
+  ASSERT_EQ(recs.size(), 72u);
+  EXPECT_EQ(openScanSource(path, PoseSource::Simplemap)->poseSource(), PoseSource::Simplemap);
+  EXPECT_NE(recs.back().pose.distanceTo(recs.front().pose), 0.0);
+}
+
 TEST(ScanSource, TruncatedRawlogKeepsEveryCompleteRecordAndNamesTheFault) {
   const std::string dir = test::tempDir("src");
   test::writeObsRawlog(dir + "/full.rawlog", tenSteps());

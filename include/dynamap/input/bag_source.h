@@ -7,7 +7,8 @@
 // the MRPT sensorLabel) and its beam geometry: beam i at angle_min + i * angle_increment, valid
 // when finite and within [range_min, range_max] (ROS: values outside are to be discarded).
 // Poses are 2D (x, y, yaw) and taken at each scan's stamp, interpolated between the transforms
-// around it (PoseTrack's rules: samples at most 2 s apart, an end sample within 0.1 s):
+// around it (PoseTrack's rules: samples at most PoseTrack::maxGap() apart, an end sample within
+// 0.1 s):
 //   mount        base_frame -> the scan's frame (usually /tf_static), as the scan's sensorPose;
 //   odometry     odom_frame -> base_frame from /tf, or the pose of nav_msgs/Odometry on
 //                odom_topic;

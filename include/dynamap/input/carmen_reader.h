@@ -18,21 +18,40 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <cstddef>
+#include <deque>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "dynamap/base/pose_track.h"
 #include "dynamap/input/scan_source.h"
 
 namespace dynamap {
+
+/// Which of a CARMEN log's two odometry streams pose source odometry reads.
+enum class CarmenOdometrySource {
+  /// The odometry fields of each FLASER/RLASER line (ROBOTLASER1: the latest ODOM line). In a
+  /// "corrected" log they are the corrected pose, not the robot's own odometry.
+  LaserLines,
+  /// The ODOM lines, the robot's own odometry stream, interpolated to each scan's time.
+  OdomLines,
+};
+/// "laser" | "odom"; throws std::invalid_argument otherwise.
+CarmenOdometrySource parseCarmenOdometry(const std::string& name);
+std::string toString(CarmenOdometrySource odometry);
 
 /// How a CARMEN log is read.
 struct CarmenOptions {
   /// Field of view [deg] of every laser line, overriding the PARAM lines and the ROBOTLASER1
   /// fields; the angular step then follows from the beam count. 0 = not overridden.
   double fov_deg = 0;
+  /// The odometry stream of pose source odometry (and scan_matching, slam).
+  CarmenOdometrySource odometry = CarmenOdometrySource::LaserLines;
+  /// How ODOM lines are interpolated to a scan's time (CarmenOdometrySource::OdomLines).
+  PoseTrackOptions odometry_track;
   /// Maximum range [m] when no PARAM gives it (81 m: a SICK LMS reports ~81.9 m for no return).
   double default_max_range = 81.0;
   /// Skip malformed lines of known types (counted as "bad line") instead of failing.
@@ -46,6 +65,19 @@ class CarmenParseError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// A line holding a finite number too small to be normal (e.g. a timestamp 5.45506e-312): bits
+/// of a corrupt record, not a value. The reader skips and counts such a line ("line with a
+/// subnormal number") rather than failing.
+class CarmenSubnormalNumber : public CarmenParseError {
+ public:
+  using CarmenParseError::CarmenParseError;
+};
+
+/// How a field of a CARMEN line reads as a number (std::from_chars: no locale, no streams; a
+/// leading '+' is accepted as strtod did). kSubnormal: `v` holds the subnormal value.
+enum class CarmenNumber { kOk, kNotNumber, kNotFinite, kSubnormal };
+CarmenNumber parseCarmenNumber(const std::string& field, double& v);
 
 /// Which laser an old- or new-format line comes from.
 enum class CarmenLaserKind { Front, Rear, Robot };
@@ -94,10 +126,13 @@ struct CarmenLaserParams {
 };
 
 /// The PARAM state of a log. applyParam returns false for a PARAM that does not matter here and
-/// throws CarmenParseError when one that matters has a value that is not a number.
+/// throws CarmenParseError when one that matters has a value that is not a number. A field of
+/// view of at most kMaxRadianFov is taken as radians (no laser scanner spans under 6.3 deg;
+/// logs written as `laser_front_laser_fov 3.14159` exist) and `note`, when given, says so.
 struct CarmenParams {
+  static constexpr double kMaxRadianFov = 6.2832;  // 2 pi, rounded up
   CarmenLaserParams front, rear;
-  bool applyParam(const std::string& name, const std::string& value);
+  bool applyParam(const std::string& name, const std::string& value, std::string* note = nullptr);
 };
 
 /// Angles of a scan's beams: beam i at start + i * step [rad], in the laser's frame.
@@ -112,6 +147,11 @@ struct LaserGeometry {
 /// 360: CARMEN's last beam stops one step short); first beam at -fov/2.
 LaserGeometry laserGeometry(std::size_t beams, const CarmenLaserParams& params,
                             const CarmenOptions& options);
+/// Empty when the field of view (PARAM or 180 deg), the beam count and the PARAM resolution of
+/// an old-format laser agree within a step (or there is no resolution, or --fov overrides);
+/// otherwise what disagrees and what laserGeometry assumes.
+std::string geometryDisagreement(std::size_t beams, const CarmenLaserParams& params,
+                                 const CarmenOptions& options);
 
 /// The MRPT scan of a laser line: aperture and sensor yaw placing every beam at its angle,
 /// rightToLeft, maxRange, validity (false for ranges <= 0, >= maxRange or not finite), sensorPose
@@ -138,7 +178,13 @@ struct CarmenEvent {
 /// Streams a CARMEN log (plain or gz, told by content) line by line; never holds the whole file.
 /// stats(): records = lines read, scans = laser lines returned, skipped = lines skipped by reason
 /// ("line type SYNC", "comment", "empty line", "PARAM not used", "bad line",
-/// "ODOM with zero timestamp").
+/// "ODOM with zero timestamp", "line with a subnormal number"), warnings = what was assumed (a
+/// field of view read as radians, a geometry that does not agree, degenerate timestamps).
+///
+/// Degenerate timestamps: the first kTimeProbeScans laser lines are read ahead; when they carry
+/// at most two distinct times for more scans than that (all 0, say), time says nothing, and
+/// every event is retimed by the log's order at kNominalRate: scan k at k / kNominalRate s, an
+/// ODOM line at the time of the scan before it. A warning says so.
 class CarmenReader {
  public:
   /// Throws InputError when the file cannot be opened.
@@ -151,6 +197,12 @@ class CarmenReader {
   /// a malformed line (unless options.skip_bad_lines) or an over-long line.
   bool next(CarmenEvent& out);
 
+  static constexpr std::size_t kTimeProbeScans = 20;
+  static constexpr std::size_t kTimeProbeEvents = 5000;  // read ahead at most (ODOM lines too)
+  static constexpr double kNominalRate = 10.0;           // [Hz]
+  /// True once timestamps were found degenerate (known after the first next()).
+  bool retimed() const { return retime_; }
+
   const SourceStats& stats() const { return stats_; }
   const std::string& path() const { return path_; }
   /// Share of the file's (compressed) bytes consumed so far, in [0, 1]; negative if unknown.
@@ -158,8 +210,14 @@ class CarmenReader {
 
  private:
   struct LineInput;
+  bool readEvent(CarmenEvent& out);
   bool handleLine(const std::string& line, CarmenEvent& out);
+  void applyParam(const std::string& name, const std::string& value);
+  void checkGeometry(const CarmenLaser& laser);
+  void probeTimes();
+  void retime(CarmenEvent& e);
   void skip(const std::string& reason) { ++stats_.skipped[reason]; }
+  void warn(const std::string& what) { stats_.warnings.push_back(path_ + ": " + what); }
 
   std::string path_;
   CarmenOptions options_;
@@ -168,6 +226,12 @@ class CarmenReader {
   CarmenParams params_;
   std::optional<mrpt::poses::CPose2D> last_odometry_;
   SourceStats stats_;
+  bool probed_ = false, retime_ = false;
+  std::deque<CarmenEvent> ahead_;   // events read while probing the timestamps
+  std::exception_ptr probe_fault_;  // an InputError met while probing, thrown after ahead_
+  std::size_t retimed_scans_ = 0;
+  double retimed_t_ = 0;                              // the last retimed scan's time
+  bool geometry_checked_[3] = {false, false, false};  // by CarmenLaserKind
 };
 
 /// True when `path` (plain or gz) is text whose first line that is not a comment or blank starts
@@ -175,10 +239,13 @@ class CarmenReader {
 /// False for unreadable, empty or binary files; never throws.
 bool looksLikeCarmen(const std::string& path);
 
-/// A ScanSource over a CARMEN log. Auto and GroundTruth: the laser line's pose; Odometry: the odom
-/// fields of FLASER/RLASER, or the latest ODOM line for ROBOTLASER1 (a scan with none before it
-/// is an InputError naming its line); Fixed: the line's pose (withFixedPose replaces it);
-/// Simplemap: InputError. ScanRecord::index counts scans from 0.
+/// A ScanSource over a CARMEN log. Auto and GroundTruth: the laser line's pose; Odometry, with
+/// options.odometry LaserLines: the odom fields of FLASER/RLASER, or the latest ODOM line for
+/// ROBOTLASER1 (a scan with none before it is an InputError naming its line); with OdomLines: the
+/// ODOM lines interpolated to each scan's time under options.odometry_track (a scan with none
+/// near enough, or a log whose timestamps were degenerate, is an InputError naming its line);
+/// Fixed: the line's pose (withFixedPose replaces it); Simplemap: InputError. ScanRecord::index
+/// counts scans from 0. poseDetail() says which stream the poses are.
 std::unique_ptr<ScanSource> openCarmenSource(const std::string& path, PoseSource source,
                                              const CarmenOptions& options);
 

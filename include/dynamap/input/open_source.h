@@ -16,6 +16,9 @@ namespace dynamap {
 struct InputOptions {
   PoseSource poses = PoseSource::Auto;
   mrpt::poses::CPose2D fixed_pose;  ///< the pose of every scan under PoseSource::Fixed
+  /// How scans find their pose by time in a pose stream (rawlog ground truth and odometry,
+  /// and a CARMEN log's ODOM lines: carmen.odometry_track is set from it).
+  PoseTrackOptions pose_track;
   CarmenOptions carmen;             ///< applies to CARMEN logs
   BagOptions bag;                   ///< applies to ROS bags
 };

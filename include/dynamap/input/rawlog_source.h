@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "dynamap/base/pose_track.h"
 #include "dynamap/input/scan_source.h"
 
 namespace dynamap {
@@ -19,8 +20,14 @@ RawlogPeek peekRawlog(const std::string& path);
 
 /// A rawlog's scans with poses from `source` (GroundTruth: CObservationRobotPose, else the
 /// companion <log>.gt.txt; Odometry: CObservationOdometry, else integrated actions), each looked
-/// up by the scan's time; Fixed: every scan at the origin, the log's poses unread. A scan without a pose is an InputError naming it; a record cut off or
-/// corrupt is an InputError naming its index and byte offset, after every scan before it.
-std::unique_ptr<ScanSource> openRawlogSource(const std::string& path, PoseSource source);
+/// up by the scan's time under `track`'s rules; Fixed: every scan at the origin, the log's poses
+/// unread. A scan waits for at least one pose sample read after it (its own may follow it: a
+/// scan stamped before poses already read, its clock stepped back, takes its own, not one
+/// interpolated between others). A scan without a pose, or whose time matches several
+/// different poses (timestamps that repeat: time cannot place it), is an InputError naming it; a
+/// record cut off or corrupt is an InputError naming its index and byte offset, after every scan
+/// before it.
+std::unique_ptr<ScanSource> openRawlogSource(const std::string& path, PoseSource source,
+                                             const PoseTrackOptions& track = {});
 
 }  // namespace dynamap

@@ -13,6 +13,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace dynamap {
 
@@ -56,9 +57,14 @@ class InputError : public std::runtime_error {
 
 /// Counts a source keeps while reading, for the run summary.
 struct SourceStats {
-  std::size_t records = 0;                     ///< top-level records (objects or lines) read
-  std::size_t scans = 0;                       ///< 2D laser scans seen
-  std::map<std::string, std::size_t> skipped;  ///< records or scans skipped, by reason
+  /// What a record is: "records" (rawlog objects), "lines" (CARMEN), "messages" (ROS bag).
+  std::string record_unit = "records";
+  std::size_t records = 0;  ///< top-level records (objects, lines, messages) read
+  std::size_t scans = 0;    ///< 2D laser scans seen
+  /// Records not turned into scans, by reason (a CARMEN comment line is a line, not a scan).
+  std::map<std::string, std::size_t> skipped;
+  /// What the reader assumed about the input that a user should know (each names the file).
+  std::vector<std::string> warnings;
 };
 
 class ScanSource {
@@ -75,6 +81,9 @@ class ScanSource {
   /// How much of the input has been read, in [0, 1], or negative when unknown (compressed
   /// streams); drives the progress line's estimate of the time left.
   virtual double fractionRead() const { return -1.0; }
+  /// Which of the format's streams the poses are, when it has several (e.g. a CARMEN log's
+  /// "the odometry fields of each laser line"); empty when poseSource() says it all.
+  virtual std::string poseDetail() const { return {}; }
 };
 
 /// The bytes a reader of `path` will see: the file's size, or for gzip the trailer's ISIZE (the

@@ -47,6 +47,7 @@ struct MapJob {
 
 struct MapJobResult {
   std::string pose_source;  ///< the one used (never auto)
+  std::string pose_detail;  ///< which of the format's streams (ScanSource::poseDetail)
   RunCounts counts;
   SourceStats source_stats;
   bool scan_matching = false;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dynamap/base/option_table.h"
+#include "dynamap/input/carmen_reader.h"
 #include "dynamap/input/scan_source.h"
 #include "dynamap/localization/scan_matcher.h"
 #include "dynamap/localization/slam.h"
@@ -32,6 +33,10 @@ struct MapConfig {
   SlamOptions slam;                     ///< used when poses is Slam
   PoseSource poses = PoseSource::Auto;  ///< [input] poses
   mrpt::poses::CPose2D fixed_pose;      ///< [input] fixed_pose: every scan's pose when Fixed
+  /// [input] pose_max_gap [s]: PoseTrackOptions::max_gap (0: from the log's own spacing).
+  double pose_max_gap = 0;
+  /// [input] carmen_odometry: the odometry stream of a CARMEN log.
+  CarmenOdometrySource carmen_odometry = CarmenOdometrySource::LaserLines;
 
   /// Strict: unknown sections or keys, bad values: ConfigError naming file, section and key.
   static MapConfig load(const IniFile& ini);
