@@ -74,4 +74,14 @@ void Progress::finish() {
   shown_ = false;
 }
 
+BagOptions bagOptions(const po::variables_map& vm) {
+  BagOptions bag;
+  if (vm.count("scan-topic")) bag.scan_topic = vm["scan-topic"].as<std::string>();
+  if (vm.count("odom-topic")) bag.odom_topic = vm["odom-topic"].as<std::string>();
+  bag.odom_frame = vm["odom-frame"].as<std::string>();
+  bag.base_frame = vm["base-frame"].as<std::string>();
+  bag.gt_frame = vm["gt-frame"].as<std::string>();
+  return bag;
+}
+
 }  // namespace dynamap::app

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "commands.h"
+#include "dynamap/input/bag_source.h"
 
 namespace dynamap::app {
 
@@ -43,5 +44,8 @@ bool parseImportCommand(const Args& args, const po::options_description& visible
                         po::variables_map& vm, std::string& input, std::string& output);
 
 bool stderrIsTerminal();
+/// The ROS bag options (--scan-topic, --odom-topic, --odom-frame, --base-frame, --gt-frame) of a
+/// parsed command line that declares them, as map and import-bag do.
+BagOptions bagOptions(const po::variables_map& vm);
 
 }  // namespace dynamap::app

@@ -59,11 +59,7 @@ BagImportArgs parseBagImportArgs(const Args& args, bool& help) {
       "Scans without the poses the bag offers are skipped and counted.\n",
       "ROS bag", vm, a.input, a.output);
   if (help) return {};
-  if (vm.count("scan-topic")) a.bag.scan_topic = vm["scan-topic"].as<std::string>();
-  if (vm.count("odom-topic")) a.bag.odom_topic = vm["odom-topic"].as<std::string>();
-  a.bag.odom_frame = vm["odom-frame"].as<std::string>();
-  a.bag.base_frame = vm["base-frame"].as<std::string>();
-  a.bag.gt_frame = vm["gt-frame"].as<std::string>();
+  a.bag = bagOptions(vm);
   return a;
 }
 

@@ -72,17 +72,6 @@ void warnAboutSkips(const RunCounts& counts, const SourceStats& stats) {
   }
 }
 
-// The ROS bag options of the command line.
-BagOptions bagOptions(const po::variables_map& vm) {
-  BagOptions bag;
-  if (vm.count("scan-topic")) bag.scan_topic = vm["scan-topic"].as<std::string>();
-  if (vm.count("odom-topic")) bag.odom_topic = vm["odom-topic"].as<std::string>();
-  bag.odom_frame = vm["odom-frame"].as<std::string>();
-  bag.base_frame = vm["base-frame"].as<std::string>();
-  bag.gt_frame = vm["gt-frame"].as<std::string>();
-  return bag;
-}
-
 // --poses and --fixed-pose over the configuration's [input].
 void applyPoseOptions(const po::variables_map& vm, MapConfig& config) {
   if (vm.count("poses")) {
