@@ -1,11 +1,14 @@
 #include "test_util.h"
 
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <unistd.h>
@@ -73,6 +76,31 @@ void writeObsRawlog(const std::string& path, const std::vector<LogStep>& steps, 
       ar << *gt;
     }
   }
+}
+
+std::vector<std::size_t> writeSimplemap(const std::string& path, const std::vector<LogStep>& steps) {
+  mrpt::maps::CSimpleMap map;
+  for (const auto& s : steps) {
+    auto sf = mrpt::obs::CSensoryFrame::Create();
+    s.scan->timestamp = mrpt::Clock::fromDouble(s.t);
+    sf->insert(s.scan);
+    auto pose = mrpt::poses::CPose3DPDFGaussian::Create();
+    pose->mean = mrpt::poses::CPose3D(s.pose);
+    map.insert(pose, sf);
+  }
+  {
+    mrpt::io::CFileOutputStream out(path);
+    mrpt::serialization::archiveFrom(out) << map;
+  }
+  // Each keyframe starts with its pose object: a length byte, then the class name.
+  const std::string bytes = readFile(path);
+  const std::string name = "mrpt::poses::CPose3DPDFGaussian";
+  std::vector<std::size_t> starts;
+  for (auto at = bytes.find(name); at != std::string::npos; at = bytes.find(name, at + 1)) {
+    starts.push_back(at - 1);
+  }
+  starts.push_back(bytes.size());
+  return starts;
 }
 
 void writeActionSfRawlog(const std::string& path, const std::vector<LogStep>& steps) {

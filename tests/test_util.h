@@ -33,6 +33,10 @@ void writeObsRawlog(const std::string& path, const std::vector<LogStep>& steps,
 /// Writes an action / sensory-frame rawlog with odometry increments between steps.
 void writeActionSfRawlog(const std::string& path, const std::vector<LogStep>& steps);
 
+/// Writes an uncompressed MRPT simplemap: one keyframe per step, its scan at its pose (a
+/// CPose3DPDFGaussian); returns the byte offset where each keyframe starts, and the file's size.
+std::vector<std::size_t> writeSimplemap(const std::string& path, const std::vector<LogStep>& steps);
+
 /// A fresh, empty directory under the system's temp dir, unique per call.
 std::string tempDir(const std::string& tag);
 

@@ -433,7 +433,12 @@ bool CarmenReader::next(CarmenEvent& out) {
 
 bool CarmenReader::readEvent(CarmenEvent& out) {
   std::string line;
-  while (input_->next(line)) {
+  while (true) {
+    if (const std::size_t empty = input_->skipEmptyLines()) {
+      stats_.records += empty;
+      stats_.skipped["empty line"] += empty;
+    }
+    if (!input_->next(line)) break;
     ++stats_.records;
     try {
       if (line.find('\0') != std::string::npos) {

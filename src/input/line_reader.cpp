@@ -132,6 +132,23 @@ bool LineReader::refill() {
   return len_ > 0;
 }
 
+std::size_t LineReader::skipEmptyLines() {
+  std::size_t skipped = 0;
+  while (pos_ < len_ || refill()) {
+    const char* start = buf_.data() + pos_;
+    const char* end = buf_.data() + len_;
+    const char* p = start;
+    while (p < end && *p == '\n') ++p;
+    const auto n = static_cast<std::size_t>(p - start);
+    skipped += n;
+    pos_ += n;
+    consumed_ += n;
+    line_no_ += n;  // before a refill, whose error names the last line read
+    if (p < end) break;
+  }
+  return skipped;
+}
+
 bool LineReader::next(std::string& line) {
   line.clear();
   bool got_any = false;

@@ -29,6 +29,7 @@ class RawlogSource : public ScanSource {
       : path_(path),
         source_(source),
         bytes_(static_cast<double>(uncompressedSize(path))),
+        size_bound_(uncompressedSizeBound(path)),
         poses_(trackOptions(track, source)) {
     if (!in_.open(path)) throw InputError(path + ": cannot open");
     if (source_ == PoseSource::GroundTruth && !hasGroundTruthInLog(path)) {
@@ -86,26 +87,14 @@ class RawlogSource : public ScanSource {
     const uint64_t start = in_.getPosition();
     mrpt::serialization::CSerializable::Ptr obj;
     try {
-      obj = readBoundedObject(in_);
-    } catch (const mrpt::serialization::CExceptionEOF&) {
-      eof_ = true;
-      if (in_.getPosition() != start) {
-        fault_ = "record " + std::to_string(stats_.records) + " at byte " + std::to_string(start) +
-                 " is cut off (truncated file)";
-      }
-      return;
+      obj = readBoundedObject(in_, recordAllocationBound(size_bound_, start));
     } catch (const std::exception& e) {
-      // MRPT reports a record cut short as an error reading it, not as CExceptionEOF.
       eof_ = true;
-      const std::string msg = innermostMessage(e.what());
-      const std::string where =
-          "record " + std::to_string(stats_.records) + " at byte " + std::to_string(start);
-      if (msg.find("(EOF?)") != std::string::npos || in_.checkEOF()) {
-        fault_ = where + " is cut off (truncated file)";
-      } else if (msg.find("bad_alloc") != std::string::npos) {
-        fault_ = where + " is corrupt: it states a size no real record has";
-      } else {
-        fault_ = where + " is corrupt: " + msg;
+      // The end of the file between two records is the log's end, not a fault.
+      const bool clean_end = dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e) &&
+                             in_.getPosition() == start;
+      if (!clean_end) {
+        fault_ = describeRecordFault(e, in_, "record " + std::to_string(stats_.records), start);
       }
       return;
     }
@@ -128,18 +117,6 @@ class RawlogSource : public ScanSource {
     } else {
       ++stats_.skipped[std::string("record of class ") + obj->GetRuntimeClass()->className];
     }
-  }
-
-  /// MRPT's exceptions nest reports with call stacks; the innermost "Message:" says what failed.
-  static std::string innermostMessage(const std::string& what) {
-    std::string msg;
-    for (std::size_t pos = what.find("Message:"); pos != std::string::npos;
-         pos = what.find("Message:", pos + 1)) {
-      msg = what.substr(pos + 8, what.find('\n', pos) - pos - 8);
-    }
-    if (msg.empty()) msg = what.substr(0, what.find('\n'));
-    const auto first = msg.find_first_not_of(' ');
-    return first == std::string::npos ? std::string() : msg.substr(first);
   }
 
   static double frameTime(const mrpt::obs::CSensoryFrame& sf) {
@@ -237,6 +214,7 @@ class RawlogSource : public ScanSource {
   std::string path_;
   PoseSource source_;
   double bytes_;  // uncompressed size, for fractionRead (0: unknown)
+  std::uint64_t size_bound_;  // what the file can hold at most, bounding a record's allocations
   mrpt::io::CFileGZInputStream in_;
   SourceStats stats_;
   PoseTrack poses_;
@@ -255,6 +233,7 @@ RawlogPeek peekRawlog(const std::string& path) {
   RawlogPeek peek;
   mrpt::io::CFileGZInputStream in;
   if (!in.open(path)) throw InputError(path + ": cannot open");
+  const std::uint64_t size_bound = uncompressedSizeBound(path);
   auto see = [&](const mrpt::obs::CObservation::Ptr& o) {
     if (std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o)) peek.ground_truth = true;
     if (std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) peek.odometry = true;
@@ -263,7 +242,7 @@ RawlogPeek peekRawlog(const std::string& path) {
   for (int i = 0; i < 300; ++i) {
     mrpt::serialization::CSerializable::Ptr obj;
     try {
-      obj = readBoundedObject(in);
+      obj = readBoundedObject(in, recordAllocationBound(size_bound, in.getPosition()));
     } catch (const std::exception&) {
       break;  // faults are reported by the real pass, at their record
     }

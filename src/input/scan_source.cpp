@@ -5,20 +5,48 @@
 
 namespace dynamap {
 
-std::uint64_t uncompressedSize(const std::string& path) {
+namespace {
+
+/// A file's size, whether it is gzip, and for gzip the trailer's ISIZE (the uncompressed size
+/// modulo 4 GiB of its last member).
+struct StoredSize {
+  std::uint64_t file = 0;
+  bool gz = false;
+  std::uint64_t isize = 0;
+};
+
+StoredSize storedSize(const std::string& path) {
+  StoredSize s;
   std::ifstream f(path, std::ios::binary | std::ios::ate);
-  if (!f) return 0;
-  const auto size = static_cast<std::streamoff>(f.tellg());
+  if (!f) return s;
+  s.file = static_cast<std::uint64_t>(static_cast<std::streamoff>(f.tellg()));
   unsigned char head[2] = {0, 0};
   f.seekg(0);
   f.read(reinterpret_cast<char*>(head), 2);
-  if (!(head[0] == 0x1f && head[1] == 0x8b)) return static_cast<std::uint64_t>(size);
-  if (size < 18) return 0;
+  s.gz = head[0] == 0x1f && head[1] == 0x8b;
+  if (!s.gz || s.file < 18) return s;
   unsigned char tail[4];
-  f.seekg(size - 4);
+  f.seekg(static_cast<std::streamoff>(s.file - 4));
   f.read(reinterpret_cast<char*>(tail), 4);
-  if (!f) return 0;
-  return tail[0] | (tail[1] << 8) | (tail[2] << 16) | (static_cast<std::uint64_t>(tail[3]) << 24);
+  if (f) {
+    s.isize = tail[0] | (tail[1] << 8) | (tail[2] << 16) | (static_cast<std::uint64_t>(tail[3]) << 24);
+  }
+  return s;
+}
+
+}  // namespace
+
+std::uint64_t uncompressedSize(const std::string& path) {
+  const StoredSize s = storedSize(path);
+  return s.gz ? s.isize : s.file;
+}
+
+std::uint64_t uncompressedSizeBound(const std::string& path) {
+  const StoredSize s = storedSize(path);
+  if (!s.gz) return s.file;
+  // Deflate inflates at most 1032:1: a smaller file cannot hold 4 GiB, so ISIZE is exact.
+  constexpr std::uint64_t kMaxDeflateRatio = 1032;
+  return s.file * kMaxDeflateRatio < (std::uint64_t{1} << 32) ? s.isize : 0;
 }
 
 PoseSource parsePoseSource(const std::string& name) {

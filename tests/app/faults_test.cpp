@@ -168,6 +168,21 @@ TEST(Faults, AScanClaimingTwoBillionBeamsIsACorruptRecordNotAnAllocation) {
                             "is corrupt: it states a size no real record has");
 }
 
+// 60 million beams fit under the 256 MiB a record may ever allocate, but not in what is left of
+// a 1 MB log: refused as a corrupt record before anything is allocated for them.
+TEST(Faults, AScanClaimingMoreBeamsThanTheFileHoldsAllocatesNothingForThem) {
+  const std::string dir = test::tempDir("beams");
+  const std::string plain = plainTiny(dir);
+  const auto starts = recordStarts(dir + "/tiny-plain.rawlog");
+  std::string lying = plain;
+  const std::size_t cls = lying.find("CObservation2DRangeScan", starts[starts.size() / 2]);
+  const std::size_t count = lying.find(std::string("\xb5\x00\x00\x00", 4), cls);
+  lying.replace(count, 4, std::string("\x00\x87\x93\x03", 4));  // 60,000,000
+  const std::size_t k = std::upper_bound(starts.begin(), starts.end(), count) - starts.begin() - 1;
+  expectPartialEqualsPrefix(dir, "lying", lying, plain, starts, k,
+                            "is corrupt: it states a size no real record has");
+}
+
 TEST(Faults, EmptyFilesAndFilesThatAreNoLogAreErrorsNamingTheFile) {
   // Nothing in them can be mapped: an error (1), not a partial input (4), and no outputs.
   const std::string dir = test::tempDir("nolog");
@@ -199,6 +214,28 @@ void setBeams(test::LogStep& s, int from, int count, float value) {
     s.scan->setScanRange(i, value);
     s.scan->setScanRangeValidity(i, true);  // "valid", as a faulty driver would say
   }
+}
+
+// A simplemap cut inside a keyframe: exit 4, the keyframes before it mapped exactly as a
+// simplemap of those keyframes alone, every output written.
+TEST(Faults, ASimplemapCutInsideAKeyframeMapsEveryKeyframeBeforeIt) {
+  const std::string dir = test::tempDir("smcut");
+  const auto steps = roomSteps();
+  const auto starts = test::writeSimplemap(dir + "/full.simplemap", steps);
+  test::writeSimplemap(dir + "/prefix.simplemap", std::vector<test::LogStep>(steps.begin(), steps.begin() + 12));
+  writeBytes(dir + "/cut.simplemap",
+             test::readFile(dir + "/full.simplemap").substr(0, (starts[12] + starts[13]) / 2));
+  std::string out;
+  EXPECT_EQ(map("--input " + dir + "/cut.simplemap --out " + dir + "/cut", &out), 4) << out;
+  EXPECT_NE(out.find("cut.simplemap: keyframe 12 of 20 at byte " + std::to_string(starts[12]) +
+                     " is cut off (truncated file)"),
+            std::string::npos)
+      << out;
+  ASSERT_EQ(map("--input " + dir + "/prefix.simplemap --out " + dir + "/prefix", &out), 0) << out;
+  expectSameMapOutputs(dir + "/cut", dir + "/prefix");
+  const std::string summary = test::readFile(dir + "/cut/summary.json");
+  EXPECT_NE(summary.find("\"complete_input\": false"), std::string::npos) << summary;
+  EXPECT_EQ(summaryNumber(summary, "used"), 12);
 }
 
 TEST(Faults, BadBeamsAndBadScansAreSkippedAndCountedByReason) {

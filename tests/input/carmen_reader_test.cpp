@@ -275,6 +275,35 @@ TEST_F(CarmenTest, SkipBadLinesCountsThem) {
   EXPECT_EQ(events.size(), 3u);
 }
 
+// Runs of empty lines are passed over in bulk (a gz of a few MB can hold billions of them); every
+// one is still a line: counted, and the lines after them keep their numbers.
+TEST_F(CarmenTest, RunsOfEmptyLinesAreCountedAndKeepLineNumbers) {
+  auto lines = sampleLines();
+  const std::size_t kRun = 3000000;
+  std::string text;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    text += lines[i] + "\n";
+    if (i == 8) text += std::string(kRun, '\n');  // after the FLASER line (9)
+  }
+  SourceStats stats;
+  const auto events = readAll(writeGz("empty.log.gz", text), {}, &stats);
+  EXPECT_EQ(stats.records, lines.size() + kRun);
+  EXPECT_EQ(stats.skipped["empty line"], kRun + 1);  // the run and line 12
+  ASSERT_EQ(stats.scans, 3u);
+  EXPECT_EQ(events.back().line, 14 + kRun);  // ROBOTLASER1, line 14 before the run
+  // A malformed line after the run is named by its number.
+  lines[12] = "RLASER 360 1.0";
+  text.clear();
+  for (std::size_t i = 0; i < lines.size(); ++i) text += lines[i] + (i == 8 ? "\n\n\n" : "\n");
+  try {
+    readAll(write("bad-after-empty.log", text));
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad-after-empty.log:15: "), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(CarmenTest, OverlongLineIsAnErrorNamingIt) {
   CarmenOptions options;
   options.max_line_length = 1000;  // the FLASER line (9) is longer

@@ -69,6 +69,30 @@ TEST(LineReader, PlainAndGzFilesGiveTheSameLines) {
   }
 }
 
+TEST(LineReader, SkipEmptyLinesCountsThemAsLinesAcrossBlocks) {
+  const std::string dir = test::tempDir("lines");
+  // 200,000 empty lines: several read blocks, plain and compressed.
+  const std::string text = "first\n" + std::string(200000, '\n') + "last\n\n";
+  writeFile(dir + "/plain.txt", text);
+  writeFile(dir + "/packed.txt.gz", gzipped(text));
+  for (const char* name : {"/plain.txt", "/packed.txt.gz"}) {
+    LineReader in(dir + name);
+    std::string line;
+    EXPECT_EQ(in.skipEmptyLines(), 0u);  // "first" is no empty line
+    ASSERT_TRUE(in.next(line));
+    EXPECT_EQ(line, "first");
+    EXPECT_EQ(in.skipEmptyLines(), 200000u);
+    EXPECT_EQ(in.lineNumber(), 200001u);
+    ASSERT_TRUE(in.next(line));
+    EXPECT_EQ(line, "last");
+    EXPECT_EQ(in.lineNumber(), 200002u);
+    EXPECT_EQ(in.skipEmptyLines(), 1u);
+    EXPECT_EQ(in.skipEmptyLines(), 0u);
+    EXPECT_FALSE(in.next(line));
+    EXPECT_EQ(in.position(), text.size());
+  }
+}
+
 TEST(LineReader, ALineOverTheCapIsAnErrorNamingIt) {
   const std::string dir = test::tempDir("lines");
   writeFile(dir + "/long.txt", "short\n" + std::string(5000, 'x') + "\nnever read\n");

@@ -208,6 +208,40 @@ TEST(ScanSource, OldFormatSimplemapOfMrptsExamples) {
   EXPECT_NE(recs.back().pose.distanceTo(recs.front().pose), 0.0);
 }
 
+// A simplemap is read keyframe by keyframe: cut or damaged in keyframe 3 of 10, the scans of
+// keyframes 0-2 come out, then the fault naming the keyframe and its byte.
+TEST(ScanSource, ASimplemapCutOrDamagedGivesEveryKeyframeBeforeTheFault) {
+  const std::string dir = test::tempDir("simplemap-cut");
+  const auto starts = test::writeSimplemap(dir + "/ten.simplemap", tenSteps());
+  ASSERT_EQ(starts.size(), 11u);
+  const std::string bytes = test::readFile(dir + "/ten.simplemap");
+  std::string damaged = bytes;
+  for (std::size_t i = 0; i < 8; ++i) damaged[starts[3] + i] = '\xff';
+  std::ofstream(dir + "/cut.simplemap", std::ios::binary)
+      << bytes.substr(0, (starts[3] + starts[4]) / 2);
+  std::ofstream(dir + "/damaged.simplemap", std::ios::binary) << damaged;
+  for (const auto& [name, why] : {std::pair<std::string, std::string>{"cut", "is cut off"},
+                                  {"damaged", "is corrupt"}}) {
+    auto src = openScanSource(dir + "/" + name + ".simplemap", PoseSource::Auto);
+    std::vector<ScanRecord> got;
+    const std::string err = inputError([&] {
+      for (ScanRecord r; src->next(r);) got.push_back(r);
+    });
+    ASSERT_EQ(got.size(), 3u) << name;
+    EXPECT_DOUBLE_EQ(got[2].pose.x(), tenSteps()[2].pose.x());
+    const std::string fault = dir + "/" + name + ".simplemap: keyframe 3 of 10 at byte " +
+                              std::to_string(starts[3]) + " " + why;
+    EXPECT_EQ(err.rfind(fault, 0), 0u) << err;
+    EXPECT_EQ(src->stats().records, 3u);
+  }
+  // Cut inside the keyframe count (after the class name and its version byte): no keyframe.
+  std::ofstream(dir + "/header.simplemap", std::ios::binary)
+      << bytes.substr(0, bytes.find("CSimpleMap") + 10 + 1 + 2);
+  EXPECT_EQ(inputError([&] { openScanSource(dir + "/header.simplemap", PoseSource::Simplemap); }),
+            dir + "/header.simplemap: cannot read simplemap: header at byte 0 is cut off "
+                  "(truncated file)");
+}
+
 TEST(ScanSource, TruncatedRawlogKeepsEveryCompleteRecordAndNamesTheFault) {
   const std::string dir = test::tempDir("src");
   test::writeObsRawlog(dir + "/full.rawlog", tenSteps());

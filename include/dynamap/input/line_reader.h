@@ -34,6 +34,10 @@ class LineReader {
   /// Throws InputError "<path>:<line>: line longer than N bytes" before holding more than N, or
   /// "<path>: read error after line <n>: <why>" for a read or decompression error.
   bool next(std::string& line);
+  /// Passes over the empty lines (a '\n' alone) at the reader's position and returns how many,
+  /// each counted as a line: a byte compare each, where next() costs a call and a string. A gz of
+  /// 14 MB can hold 3 billion of them. Throws as next() does.
+  std::size_t skipEmptyLines();
   /// The number of the line next() returned last (1-based; 0 before the first).
   std::size_t lineNumber() const { return line_no_; }
   /// Uncompressed bytes consumed so far.

@@ -90,4 +90,10 @@ class ScanSource {
 /// uncompressed size modulo 4 GiB); 0 when unknown. For progress estimates only.
 std::uint64_t uncompressedSize(const std::string& path);
 
+/// The bytes a reader of `path` can at most see, for bounding what a record may allocate: the
+/// file's size, or for gzip the trailer's ISIZE when the file is too small to inflate past 4 GiB
+/// (so ISIZE cannot have wrapped); 0 when no bound is known. A gzip file of several members
+/// states only its last member's size: such files are not written by MRPT or CARMEN tools.
+std::uint64_t uncompressedSizeBound(const std::string& path);
+
 }  // namespace dynamap
