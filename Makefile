@@ -135,7 +135,7 @@ test-asan: deps
 # tests/fuzz_regressions/<target>/ (faults_test replays every file there).
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := scenario carmen rawlog bag baseline config
+FUZZ_TARGETS := scenario carmen rawlog simplemap bag baseline config
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 fuzz-deps: deps
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(FUZZ_PACKAGES)"

@@ -80,8 +80,9 @@ MapConfig fuzzMapConfig() {
   return config;
 }
 
-void rawlogInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = writeScratch(data, size, ".rawlog");
+/// The file written from the input, told by content and mapped to its end (or its fault).
+void mapFile(const std::uint8_t* data, std::size_t size, const char* suffix) {
+  const std::string path = writeScratch(data, size, suffix);
   const MapConfig config = fuzzMapConfig();
   try {
     auto source = openScanSource(path, PoseSource::Auto);
@@ -89,6 +90,14 @@ void rawlogInput(const std::uint8_t* data, std::size_t size) {
     drain(*source, &mapper);
   } catch (const std::exception&) {
   }
+}
+
+void rawlogInput(const std::uint8_t* data, std::size_t size) {
+  mapFile(data, size, ".rawlog");
+}
+
+void simplemapInput(const std::uint8_t* data, std::size_t size) {
+  mapFile(data, size, ".simplemap");
 }
 
 void bagInput(const std::uint8_t* data, std::size_t size) {

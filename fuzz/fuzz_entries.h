@@ -16,6 +16,8 @@ void scenarioInput(const std::uint8_t* data, std::size_t size);
 void carmenInput(const std::uint8_t* data, std::size_t size);
 /// A rawlog read by openScanSource to its end, every scan through the mapper (objects on).
 void rawlogInput(const std::uint8_t* data, std::size_t size);
+/// A simplemap (either of MRPT's formats) read keyframe by keyframe as rawlogInput reads a rawlog.
+void simplemapInput(const std::uint8_t* data, std::size_t size);
 /// A ROS bag read by openScanSource to its end, with the poses it offers and with a fixed pose,
 /// every scan through the mapper (rosbag's index, or the salvage of a bag without one).
 void bagInput(const std::uint8_t* data, std::size_t size);

@@ -78,7 +78,8 @@ void writeObsRawlog(const std::string& path, const std::vector<LogStep>& steps, 
   }
 }
 
-std::vector<std::size_t> writeSimplemap(const std::string& path, const std::vector<LogStep>& steps) {
+std::vector<std::size_t> writeSimplemap(const std::string& path,
+                                        const std::vector<LogStep>& steps) {
   mrpt::maps::CSimpleMap map;
   for (const auto& s : steps) {
     auto sf = mrpt::obs::CSensoryFrame::Create();

@@ -111,7 +111,8 @@ LineReader::LineReader(const std::string& path, std::size_t max_line_bytes)
   stream_->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (stream_->fd < 0) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
   Stream& s = *stream_;
-  if (!s.fillInput() && !s.error.empty()) throw InputError(path + ": cannot read (" + s.error + ")");
+  if (!s.fillInput() && !s.error.empty())
+    throw InputError(path + ": cannot read (" + s.error + ")");
   if (s.z.avail_in >= 2 && s.in[0] == 0x1f && s.in[1] == 0x8b) {
     // 15 + 16: a gzip wrapper, its CRC and length checked at the end of each member.
     if (inflateInit2(&s.z, 15 + 16) != Z_OK) throw InputError(path + ": cannot inflate");
@@ -160,8 +161,8 @@ bool LineReader::next(std::string& line) {
     got_any = true;
     const char* start = buf_.data() + pos_;
     const void* nl = std::memchr(start, '\n', len_ - pos_);
-    const std::size_t take = nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - start)
-                                : len_ - pos_;
+    const std::size_t take =
+        nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - start) : len_ - pos_;
     if (line.size() + take > max_line_) {
       throw InputError(path_ + ":" + std::to_string(line_no_ + 1) + ": line longer than " +
                        std::to_string(max_line_) + " bytes");

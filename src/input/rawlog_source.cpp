@@ -91,8 +91,8 @@ class RawlogSource : public ScanSource {
     } catch (const std::exception& e) {
       eof_ = true;
       // The end of the file between two records is the log's end, not a fault.
-      const bool clean_end = dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e) &&
-                             in_.getPosition() == start;
+      const bool clean_end =
+          dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e) && in_.getPosition() == start;
       if (!clean_end) {
         fault_ = describeRecordFault(e, in_, "record " + std::to_string(stats_.records), start);
       }
@@ -166,7 +166,7 @@ class RawlogSource : public ScanSource {
           source_ == PoseSource::Fixed ? PoseTrack::Lookup::kFound : poses_.at(p.t, pose, complete);
       if (r == PoseTrack::Lookup::kLater) return;  // wait for a later pose
       if (r != PoseTrack::Lookup::kFound) {
-        if (!ready_.empty()) return;  // the scans before it go out first; the error next
+        if (!ready_.empty()) return;     // the scans before it go out first; the error next
         if (final && !fault_.empty()) {  // the fault, not the pose, is what went wrong
           pending_.clear();
           return;
@@ -213,7 +213,7 @@ class RawlogSource : public ScanSource {
 
   std::string path_;
   PoseSource source_;
-  double bytes_;  // uncompressed size, for fractionRead (0: unknown)
+  double bytes_;              // uncompressed size, for fractionRead (0: unknown)
   std::uint64_t size_bound_;  // what the file can hold at most, bounding a record's allocations
   mrpt::io::CFileGZInputStream in_;
   SourceStats stats_;

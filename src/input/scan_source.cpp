@@ -29,7 +29,8 @@ StoredSize storedSize(const std::string& path) {
   f.seekg(static_cast<std::streamoff>(s.file - 4));
   f.read(reinterpret_cast<char*>(tail), 4);
   if (f) {
-    s.isize = tail[0] | (tail[1] << 8) | (tail[2] << 16) | (static_cast<std::uint64_t>(tail[3]) << 24);
+    s.isize =
+        tail[0] | (tail[1] << 8) | (tail[2] << 16) | (static_cast<std::uint64_t>(tail[3]) << 24);
   }
   return s;
 }
@@ -57,8 +58,9 @@ PoseSource parsePoseSource(const std::string& name) {
   if (name == "scan_matching") return PoseSource::ScanMatching;
   if (name == "fixed") return PoseSource::Fixed;
   if (name == "slam") return PoseSource::Slam;
-  throw std::invalid_argument("unknown pose source '" + name +
-                              "' (auto, simplemap, ground_truth, odometry, scan_matching, fixed, slam)");
+  throw std::invalid_argument(
+      "unknown pose source '" + name +
+      "' (auto, simplemap, ground_truth, odometry, scan_matching, fixed, slam)");
 }
 
 std::string toString(PoseSource source) {

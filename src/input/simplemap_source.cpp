@@ -23,8 +23,9 @@ using mrpt::obs::CObservation2DRangeScan;
 /// The file is one serialized object: a header (class name and version), a uint32 keyframe
 /// count, then that many (pose PDF, sensory frame) pairs, each an object of its own. Both
 /// headers MRPT ever wrote are read: the current one (a length byte with bit 7 set, the name,
-/// a uint8 version; the name with or without "mrpt::maps::") and the one before MRPT 1.0 (a uint32 length, the name, a uint32 version),
-/// whose class was CSensFrameProbSequence and whose poses are 2D PDFs.
+/// a uint8 version; the name with or without "mrpt::maps::") and the one before MRPT 1.0 (a uint32
+/// length, the name, a uint32 version), whose class was CSensFrameProbSequence and whose poses are
+/// 2D PDFs.
 class SimplemapSource : public ScanSource {
  public:
   explicit SimplemapSource(const std::string& path)
@@ -33,7 +34,8 @@ class SimplemapSource : public ScanSource {
     try {
       readHeader();
     } catch (const std::exception& e) {
-      throw InputError(path + ": cannot read simplemap: " + describeRecordFault(e, in_, "header", 0));
+      throw InputError(path +
+                       ": cannot read simplemap: " + describeRecordFault(e, in_, "header", 0));
     }
   }
 
@@ -70,8 +72,8 @@ class SimplemapSource : public ScanSource {
       name = readBytes(first & 0x7f);
       readInt<uint8_t>();  // the version: every one MRPT wrote has the layout read below
     } else {
-      const uint32_t length = first | uint32_t{readInt<uint8_t>()} << 8 |
-                              uint32_t{readInt<uint16_t>()} << 16;
+      const uint32_t length =
+          first | uint32_t{readInt<uint8_t>()} << 8 | uint32_t{readInt<uint16_t>()} << 16;
       name = readBytes(std::min<uint32_t>(length, 64));
       readInt<uint32_t>();
     }
@@ -105,8 +107,8 @@ class SimplemapSource : public ScanSource {
   /// Reads the next (pose, frame) pair; throws InputError naming the keyframe on a fault.
   void readKeyframe() {
     const uint64_t start = in_.getPosition();
-    const std::string what = "keyframe " + std::to_string(stats_.records) + " of " +
-                             std::to_string(keyframes_);
+    const std::string what =
+        "keyframe " + std::to_string(stats_.records) + " of " + std::to_string(keyframes_);
     try {
       const auto pose = readBoundedObject(in_, recordAllocationBound(size_bound_, start));
       frame_ = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(

@@ -222,7 +222,8 @@ TEST(Faults, ASimplemapCutInsideAKeyframeMapsEveryKeyframeBeforeIt) {
   const std::string dir = test::tempDir("smcut");
   const auto steps = roomSteps();
   const auto starts = test::writeSimplemap(dir + "/full.simplemap", steps);
-  test::writeSimplemap(dir + "/prefix.simplemap", std::vector<test::LogStep>(steps.begin(), steps.begin() + 12));
+  test::writeSimplemap(dir + "/prefix.simplemap",
+                       std::vector<test::LogStep>(steps.begin(), steps.begin() + 12));
   writeBytes(dir + "/cut.simplemap",
              test::readFile(dir + "/full.simplemap").substr(0, (starts[12] + starts[13]) / 2));
   std::string out;
@@ -334,9 +335,13 @@ TEST(Faults, TheBaselineSeesOnlyTheScansTheMapperInserted) {
 // valid JSON and the terminal gets the bytes written out, not obeyed.
 TEST(Faults, BytesFromTheFileAreEscapedInSummaryJsonAndOnTheTerminal) {
   const std::string dir = test::tempDir("bytes");
-  const std::string log = test::readFile(kSrc + "/tests/fuzz_regressions/baseline/carmen_pose_of_1e9_m.log");
+  const std::string log =
+      test::readFile(kSrc + "/tests/fuzz_regressions/baseline/carmen_pose_of_1e9_m.log");
   const std::string first_line = log.substr(0, log.find('\n') + 1);
-  writeBytes(dir + "/b.log", first_line + "\x1b[31m\xff\xfe" "FLASER 1 2 3\n" + first_line);
+  writeBytes(dir + "/b.log", first_line +
+                                 "\x1b[31m\xff\xfe"
+                                 "FLASER 1 2 3\n" +
+                                 first_line);
   std::string out;
   ASSERT_EQ(map("--input " + dir + "/b.log --out " + dir + "/o", &out), 0) << out;
   EXPECT_EQ(out.find('\x1b'), std::string::npos) << out;
@@ -348,7 +353,8 @@ TEST(Faults, BytesFromTheFileAreEscapedInSummaryJsonAndOnTheTerminal) {
   ASSERT_EQ(lines.size(), 1u) << json.dump();
   // What is not UTF-8 becomes U+FFFD; the escape character is \u001b in JSON.
   EXPECT_EQ(lines.begin().key(),
-            "line type \x1b[31m\xef\xbf\xbd\xef\xbf\xbd" "FLASER");
+            "line type \x1b[31m\xef\xbf\xbd\xef\xbf\xbd"
+            "FLASER");
 }
 
 TEST(Faults, MissingPosesAreAnErrorNamingTheFirstScanWithoutOne) {
@@ -490,11 +496,9 @@ TEST(Faults, TheRobotsPathStaysBoundedHoweverLongTheRun) {
 
 TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
   const std::vector<std::pair<std::string, void (*)(const std::uint8_t*, std::size_t)>> targets = {
-      {"scenario", fuzz::scenarioInput},
-      {"carmen", fuzz::carmenInput},
-      {"rawlog", fuzz::rawlogInput},
-      {"bag", fuzz::bagInput},
-      {"baseline", fuzz::baselineInput},
+      {"scenario", fuzz::scenarioInput}, {"carmen", fuzz::carmenInput},
+      {"rawlog", fuzz::rawlogInput},     {"simplemap", fuzz::simplemapInput},
+      {"bag", fuzz::bagInput},           {"baseline", fuzz::baselineInput},
       {"config", fuzz::configInput}};
   std::size_t files = 0;
   for (const auto& [name, entry] : targets) {

@@ -4,9 +4,9 @@
 #include "dynamap/input/open_source.h"
 
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
-#include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
@@ -181,8 +181,9 @@ TEST(ScanSource, ASimplemapGivesEachKeyframesScansAtItsPose) {
     EXPECT_NEAR(recs[k].t, 10.0 + k, 1e-6);
     EXPECT_EQ(recs[k].scan->getScanSize(), 3u);
   }
-  EXPECT_NE(inputError([&] { openScanSource(dir + "/three.simplemap", PoseSource::Odometry); })
-                .find("simplemap"),
+  EXPECT_NE(inputError([&] {
+              openScanSource(dir + "/three.simplemap", PoseSource::Odometry);
+            }).find("simplemap"),
             std::string::npos);
 }
 
@@ -220,8 +221,8 @@ TEST(ScanSource, ASimplemapCutOrDamagedGivesEveryKeyframeBeforeTheFault) {
   std::ofstream(dir + "/cut.simplemap", std::ios::binary)
       << bytes.substr(0, (starts[3] + starts[4]) / 2);
   std::ofstream(dir + "/damaged.simplemap", std::ios::binary) << damaged;
-  for (const auto& [name, why] : {std::pair<std::string, std::string>{"cut", "is cut off"},
-                                  {"damaged", "is corrupt"}}) {
+  for (const auto& [name, why] :
+       {std::pair<std::string, std::string>{"cut", "is cut off"}, {"damaged", "is corrupt"}}) {
     auto src = openScanSource(dir + "/" + name + ".simplemap", PoseSource::Auto);
     std::vector<ScanRecord> got;
     const std::string err = inputError([&] {
@@ -238,8 +239,9 @@ TEST(ScanSource, ASimplemapCutOrDamagedGivesEveryKeyframeBeforeTheFault) {
   std::ofstream(dir + "/header.simplemap", std::ios::binary)
       << bytes.substr(0, bytes.find("CSimpleMap") + 10 + 1 + 2);
   EXPECT_EQ(inputError([&] { openScanSource(dir + "/header.simplemap", PoseSource::Simplemap); }),
-            dir + "/header.simplemap: cannot read simplemap: header at byte 0 is cut off "
-                  "(truncated file)");
+            dir +
+                "/header.simplemap: cannot read simplemap: header at byte 0 is cut off "
+                "(truncated file)");
 }
 
 TEST(ScanSource, TruncatedRawlogKeepsEveryCompleteRecordAndNamesTheFault) {

@@ -2,8 +2,9 @@
 // ScanSource: a stream of (timestamp, pose, scan) read from a log one record at a time.
 //
 // Readers: MRPT rawlogs (action/sensory-frame pairs or observations only, plain or gz), MRPT
-// simplemaps (.simplemap[.gz]), CARMEN logs and ROS 1 bags. The pose of each scan comes from the source the
-// user picks (PoseSource); a scan without a pose under that source is an error naming the scan.
+// simplemaps (.simplemap[.gz]), CARMEN logs and ROS 1 bags. The pose of each scan comes from the
+// source the user picks (PoseSource); a scan without a pose under that source is an error naming
+// the scan.
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
@@ -19,8 +20,8 @@ namespace dynamap {
 
 /// Where the robot's pose for each scan comes from.
 enum class PoseSource {
-  Auto,         ///< the best one present: simplemap > ground_truth > slam (a log with odometry only)
-  Simplemap,    ///< the keyframe poses of a simplemap
+  Auto,       ///< the best one present: simplemap > ground_truth > slam (a log with odometry only)
+  Simplemap,  ///< the keyframe poses of a simplemap
   GroundTruth,  ///< CObservationRobotPose in the log, or a companion <log>.gt.txt file
   Odometry,     ///< CObservationOdometry, or integrated CActionRobotMovement2D
   /// Odometry corrected by matching each scan against the static map (ScanMatcher). A source
