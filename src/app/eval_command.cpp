@@ -402,6 +402,10 @@ void printTable(std::ostream& o, const Evaluation& ev) {
     << m.ground_truth << " person-scans: " << m.matches << " matched, " << m.misses << " missed, "
     << m.false_positives << " false positives, " << m.id_switches << " identity switches; "
     << m.people << " persons, " << m.track_ids << " track ids\n";
+  for (const IdSwitch& w : m.switches) {
+    o << "    identity switch at scan " << w.scan_index << " (t " << num(w.t, 1, "n/a")
+      << " s): person " << w.person << " from track " << w.from_id << " to " << w.to_id << "\n";
+  }
   for (const auto& n : ev.notes) o << "  note: " << n << "\n";
 }
 

@@ -545,7 +545,10 @@ MotScores evaluateClearMot(const std::vector<TruthRow>& truth,
       ++s.matches;
       sum += std::hypot(p.x - t.x, p.y - t.y);
       const auto it = last.find(p.id);
-      if (it != last.end() && it->second != t.person_id) ++s.id_switches;
+      if (it != last.end() && it->second != t.person_id) {
+        ++s.id_switches;
+        s.switches.push_back({scan, p.t, p.id, it->second, t.person_id});
+      }
       last[p.id] = t.person_id;
     }
     for (std::size_t j = 0; j < f.tracks.size(); ++j) {

@@ -537,6 +537,11 @@ TEST(ClearMot, CountsMatchesMissesFalsePositivesAndSwitches) {
   EXPECT_EQ(s.misses, 1u);
   EXPECT_EQ(s.false_positives, 2u);
   EXPECT_EQ(s.id_switches, 1u);
+  ASSERT_EQ(s.switches.size(), 1u);  // where it happened, for report.md
+  EXPECT_EQ(s.switches[0].scan_index, 6u);
+  EXPECT_EQ(s.switches[0].person, 1);
+  EXPECT_EQ(s.switches[0].from_id, 7);
+  EXPECT_EQ(s.switches[0].to_id, 8);
   EXPECT_NEAR(s.mota, 1.0 - 4.0 / 19.0, 1e-12);
   EXPECT_NEAR(s.motp_m, (9 * 0.1 + 9 * 0.05) / 18.0, 1e-9);
   EXPECT_EQ(s.people, 2u);

@@ -242,6 +242,14 @@ struct MotOptions {
   int min_visible_hits = 3;  ///< a person with fewer beams on them is not counted
 };
 
+/// A person of the truth matched to another track id than in the scan they were last matched.
+struct IdSwitch {
+  std::size_t scan_index = 0;
+  double t = 0;  ///< simulated seconds
+  int person = 0;
+  int from_id = 0, to_id = 0;  ///< the track ids before and after
+};
+
 /// CLEAR MOT (Bernardin & Stiefelhagen 2008) over the scans of the truth. Per scan a person
 /// keeps last scan's track when it is still within the gate; the others are matched at minimum
 /// total distance (Hungarian). A person seen by fewer than min_visible_hits beams is not
@@ -253,6 +261,7 @@ struct MotScores {
   double motp_m = 0;  ///< mean distance of the matches
   std::size_t people = 0;  ///< persons of the truth seen at all
   std::size_t track_ids = 0;
+  std::vector<IdSwitch> switches;  ///< each identity switch, in scan order
 };
 MotScores evaluateClearMot(const std::vector<TruthRow>& truth,
                            const std::vector<PersonTrackRow>& tracks, const MotOptions& options = {});
