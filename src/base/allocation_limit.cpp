@@ -8,6 +8,14 @@
 // The program's replacements of the global operator new and delete (see the header's contract).
 namespace {
 thread_local std::size_t t_allocation_limit = 0;  // 0: no limit
+thread_local std::size_t t_total_limit = 0;       // 0: no limit
+thread_local std::size_t t_total_used = 0;        // bytes allocated under the live limit
+
+// Throws std::bad_alloc when an allocation of n bytes breaks the live limit of this thread.
+inline void checkLimit(std::size_t n) {
+  if (t_allocation_limit != 0 && n > t_allocation_limit) throw std::bad_alloc();
+  if (t_total_limit != 0 && (t_total_used += n) > t_total_limit) throw std::bad_alloc();
+}
 }  // namespace
 
 // The operator delete below frees what the operator new below took from malloc; GCC cannot see
@@ -17,7 +25,7 @@ thread_local std::size_t t_allocation_limit = 0;  // 0: no limit
 #endif
 
 void* operator new(std::size_t n) {
-  if (t_allocation_limit != 0 && n > t_allocation_limit) throw std::bad_alloc();
+  checkLimit(n);
   if (void* p = std::malloc(n != 0 ? n : 1)) return p;
   throw std::bad_alloc();
 }
@@ -59,7 +67,7 @@ namespace mrpt {
 // (same behaviour: C++17 aligned_alloc, released by mrpt::aligned_free's free()) and applies the
 // record limit. Its callers do not check for null: a refusal throws.
 void* aligned_malloc(std::size_t size, std::size_t alignment) {
-  if (t_allocation_limit != 0 && size > t_allocation_limit) throw std::bad_alloc();
+  checkLimit(size);
   if (alignment != 0 && size % alignment != 0) size = (size / alignment + 1) * alignment;
   return ::aligned_alloc(alignment, size);
 }
@@ -71,12 +79,17 @@ std::size_t currentAllocationLimit() {
   return t_allocation_limit;
 }
 
-AllocationLimit::AllocationLimit(std::size_t max_bytes) : saved_(t_allocation_limit) {
+AllocationLimit::AllocationLimit(std::size_t max_bytes, std::size_t max_total)
+    : saved_(t_allocation_limit), saved_total_(t_total_limit), saved_used_(t_total_used) {
   t_allocation_limit = max_bytes;
+  t_total_limit = max_total;
+  t_total_used = 0;
 }
 
 AllocationLimit::~AllocationLimit() {
   t_allocation_limit = saved_;
+  t_total_limit = saved_total_;
+  t_total_used += saved_used_;
 }
 
 }  // namespace dynamap

@@ -27,7 +27,8 @@ std::size_t recordAllocationBound(std::uint64_t remaining) {
 
 mrpt::serialization::CSerializable::Ptr readBoundedObject(mrpt::io::CStream& in,
                                                           std::size_t max_bytes) {
-  const AllocationLimit limit(max_bytes);
+  constexpr std::size_t kTotalFactor = 4;
+  const AllocationLimit limit(max_bytes, kTotalFactor * max_bytes);
   return mrpt::serialization::archiveFrom(in).ReadObject();
 }
 

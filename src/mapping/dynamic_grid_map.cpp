@@ -135,17 +135,6 @@ float DynamicGridMap::staticOccupancy(int cx, int cy) const {
   return 1.0f - getCell(cx, cy);
 }
 
-bool DynamicGridMap::isStaticFree(int cx, int cy) const {
-  if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return false;
-  return m_map[cx + static_cast<std::size_t>(cy) * m_size_x] >= free_cell_;
-}
-
-bool DynamicGridMap::isObjectCell(int cx, int cy) const {
-  if (static_cast<unsigned>(cx) >= layer_size_x_ || static_cast<unsigned>(cy) >= layer_size_y_)
-    return false;
-  return isObjectIndex(cx + static_cast<std::size_t>(cy) * layer_size_x_);
-}
-
 DynamicGridMap::CellCounts DynamicGridMap::countCells() const {
   CellCounts c;
   for (std::size_t i = 0; i < m_map.size(); ++i) {

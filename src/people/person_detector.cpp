@@ -1,6 +1,5 @@
 #include "dynamap/people/person_detector.h"
 
-#include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <algorithm>
@@ -12,39 +11,40 @@
 
 namespace dynamap {
 
-ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& robot,
-                  double max_range) {
+ScanHits scanHits(const RangeData& rd, const mrpt::poses::CPose2D& robot) {
   ScanHits h;
-  const std::size_t n = scan.getScanSize();
-  const mrpt::poses::CPose3D sensor3d = mrpt::poses::CPose3D(robot) + scan.sensorPose;
-  const mrpt::poses::CPose2D sensor(sensor3d);
-  // A laser mounted upside down sweeps the other way in the map frame.
-  const bool upside_down =
-      sensor3d.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>()(2, 2) < 0;
-  const double dir = (scan.rightToLeft ^ upside_down) ? 1.0 : -1.0;
-  const double first = n > 1 ? -0.5 * scan.aperture : 0.0;
-  const double step = n > 1 ? scan.aperture / static_cast<double>(n - 1) : 0.0;
+  const std::size_t n = rd.size();
+  const mrpt::poses::CPose2D sensor = rd.sensorIn(mrpt::poses::CPose3D(robot));
   h.sensor_x = sensor.x();
   h.sensor_y = sensor.y();
-  h.max_range = max_range;
-  h.step = std::abs(step);
+  h.max_range = rd.insertion_range;
+  h.step = std::abs(rd.step);
   h.ranges.resize(n);
   h.angles.resize(n);
   h.cosines.resize(n);
   h.sines.resize(n);
+  // Each beam's direction in the map frame is the sensor's heading turned by the beam's angle,
+  // whose cos and sin RangeData keeps: no trigonometry per beam.
+  const double c = std::cos(sensor.phi()), s = std::sin(sensor.phi());
+  const auto max_range = static_cast<float>(rd.insertion_range);
   for (std::size_t i = 0; i < n; ++i) {
-    const double a = sensor.phi() + dir * (first + step * static_cast<double>(i));
-    h.angles[i] = a;
-    h.cosines[i] = std::cos(a);
-    h.sines[i] = std::sin(a);
-    const float r = scan.getScanRange(i);
-    const bool echo = scan.getScanRangeValidity(i) && std::isfinite(r) && r >= 0.0f;
-    h.ranges[i] = echo ? std::min(r, static_cast<float>(max_range)) : -1.0f;
+    h.angles[i] = sensor.phi() + rd.angle(i);
+    h.cosines[i] = c * rd.cos_angle[i] - s * rd.sin_angle[i];
+    h.sines[i] = s * rd.cos_angle[i] + c * rd.sin_angle[i];
+    const BeamKind kind = rd.kinds[i];
+    const bool echo = kind == BeamKind::Hit || kind == BeamKind::Beyond;
+    h.ranges[i] = echo ? std::min(rd.ranges[i], max_range) : -1.0f;
     // An echo at the cut-off is where the insertion stops, not a surface.
-    if (!echo || r >= max_range) continue;
+    if (kind != BeamKind::Hit) continue;
+    const double r = rd.ranges[i];
     h.points.push_back({h.sensor_x + r * h.cosines[i], h.sensor_y + r * h.sines[i], i});
   }
   return h;
+}
+
+ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& robot,
+                  double max_range) {
+  return scanHits(makeRangeData(scan, max_range, M_PI), robot);
 }
 
 std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& hits,
@@ -159,23 +159,64 @@ std::vector<PersonDetection> pairLegs(const std::vector<PointCluster>& clusters,
 
 namespace {
 
-bool staticOccupied(const DynamicGridMap& map, int cx, int cy) {
-  return map.staticOccupancy(cx, cy) > 0.5f;
+// object_max_extent in cells.
+int objectExtentCells(const DynamicGridMap& map, const PeopleOptions& o) {
+  return static_cast<int>(std::ceil(o.object_max_extent / map.getResolution()));
 }
+
 
 std::int64_t cellKey(int x, int y) {
   return static_cast<std::int64_t>(static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32 |
                                    static_cast<std::uint32_t>(y));
 }
 
+// The cells one search of smallStaticBlob met, marked in a window around where it started (the
+// search never leaves it: it stops once the body is `extent` cells wide), kept between searches
+// so that a scan's searches allocate nothing after the first.
+class BlobMarks {
+ public:
+  explicit BlobMarks(int extent) : half_(extent + 2), side_(2 * half_ + 1) {
+    marks_.assign(static_cast<std::size_t>(side_) * static_cast<std::size_t>(side_), 0);
+  }
+  void start(int cx, int cy) {
+    for (const auto& [x, y] : cells_) marks_[index(x, y)] = 0;
+    cells_.clear();
+    cx_ = cx;
+    cy_ = cy;
+  }
+  /// Marks (x, y); false when it was marked already.
+  bool insert(int x, int y) {
+    char& m = marks_[index(x, y)];
+    if (m) return false;
+    m = 1;
+    cells_.emplace_back(x, y);
+    return true;
+  }
+  const std::vector<std::pair<int, int>>& cells() const { return cells_; }
+  /// The search's own stack, kept for its capacity.
+  std::vector<std::pair<int, int>>& todo() { return todo_; }
+
+ private:
+  std::size_t index(int x, int y) const {
+    return static_cast<std::size_t>(y - cy_ + half_) * static_cast<std::size_t>(side_) +
+           static_cast<std::size_t>(x - cx_ + half_);
+  }
+  int half_, side_;
+  int cx_ = 0, cy_ = 0;
+  std::vector<char> marks_;
+  std::vector<std::pair<int, int>> cells_, todo_;
+};
+
 // Whether the cells S holds occupied connected to (cx, cy) all fit in a square of `extent`
 // cells: a body that could be moved (a bin, a chair), not a wall. Stops as soon as they do not,
 // so a wall costs a few dozen cells, and adds the cells it met to `large`: a search from another
 // cell of the same wall stops as soon as it meets one of them.
 bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
-                     std::unordered_set<std::int64_t>& large) {
-  std::unordered_set<std::int64_t> seen{cellKey(cx, cy)};
-  std::vector<std::pair<int, int>> todo{{cx, cy}};
+                     std::unordered_set<std::int64_t>& large, BlobMarks& seen) {
+  seen.start(cx, cy);
+  seen.insert(cx, cy);
+  std::vector<std::pair<int, int>>& todo = seen.todo();
+  todo.assign(1, {cx, cy});
   int x0 = cx, x1 = cx, y0 = cy, y1 = cy;
   bool small = true;
   while (!todo.empty() && small) {
@@ -186,20 +227,22 @@ bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
     // Cells up to 2 apart are one body: a wall seen from afar has a free cell between two hits.
     for (int dy = -2; dy <= 2 && small; ++dy) {
       for (int dx = -2; dx <= 2; ++dx) {
-        if (staticOccupied(map, x + dx, y + dy) && seen.insert(cellKey(x + dx, y + dy)).second)
+        if (map.isStaticOccupied(x + dx, y + dy) && seen.insert(x + dx, y + dy))
           todo.emplace_back(x + dx, y + dy);
       }
     }
   }
-  if (!small) large.insert(seen.begin(), seen.end());
+  if (!small) {
+    for (const auto& [x, y] : seen.cells()) large.insert(cellKey(x, y));
+  }
   return small;
 }
 
 bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptions& o,
-                std::unordered_set<std::int64_t>& large) {
+                std::unordered_set<std::int64_t>& large, BlobMarks& seen) {
   const double res = map.getResolution();
   const int n = static_cast<int>(std::ceil(o.static_clearance / res));
-  const int extent = static_cast<int>(std::ceil(o.object_max_extent / res));
+  const int extent = objectExtentCells(map, o);
   const int cx = map.x2idx(x), cy = map.y2idx(y);
   for (int dy = -n; dy <= n; ++dy) {
     for (int dx = -n; dx <= n; ++dx) {
@@ -207,8 +250,8 @@ bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptio
       // An object D holds, or a small body in S: something that stood here and may be moving
       // off, not someone walking. A wall (a larger body of S) is passed by people all the time.
       if (map.isObjectCell(cx + dx, cy + dy)) return true;
-      if (staticOccupied(map, cx + dx, cy + dy) && !large.count(cellKey(cx + dx, cy + dy)) &&
-          smallStaticBlob(map, cx + dx, cy + dy, extent, large))
+      if (map.isStaticOccupied(cx + dx, cy + dy) && !large.count(cellKey(cx + dx, cy + dy)) &&
+          smallStaticBlob(map, cx + dx, cy + dy, extent, large, seen))
         return true;
     }
   }
@@ -222,7 +265,8 @@ std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanH
   const std::vector<HitPoint2> free = freeSpaceHits(map, hits, o.wall_guard_cells);
   std::vector<PersonDetection> out = pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
   std::unordered_set<std::int64_t> large;  // cells of S's walls met so far, for every detection
-  for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o, large);
+  BlobMarks seen(objectExtentCells(map, o));
+  for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o, large, seen);
   return out;
 }
 

@@ -162,7 +162,7 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   ScanHits hits;
   std::vector<PersonDetection> people;
   if (config_.people.enabled) {
-    hits = scanHits(*rec.scan, result.pose, config_.insertion.max_distance_insertion);
+    hits = scanHits(rd, result.pose);
     people = detectPeople(map_, hits, config_.people);
   }
   map_.insertRange(rd, result.pose);  // 4. S and D

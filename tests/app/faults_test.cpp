@@ -216,6 +216,26 @@ void setBeams(test::LogStep& s, int from, int count, float value) {
   }
 }
 
+// A keyframe whose sensory frame states 67 million observations (each allocation a 512-byte
+// block of a deque, under any single bound): a corrupt keyframe, not a gigabyte allocated.
+TEST(Faults, AFrameStatingMillionsOfObservationsIsACorruptKeyframe) {
+  const std::string dir = test::tempDir("smcount");
+  const auto starts = test::writeSimplemap(dir + "/full.simplemap", roomSteps());
+  std::string bytes = test::readFile(dir + "/full.simplemap");
+  // The frame's version byte, then its count of observations: 1.
+  const std::size_t count = bytes.find("CSensoryFrame", starts[5]) + 13 + 1;
+  ASSERT_EQ(bytes.substr(count, 4), std::string("\x01\x00\x00\x00", 4));
+  bytes.replace(count, 4, std::string("\x00\x00\x00\x04", 4));
+  writeBytes(dir + "/lying.simplemap", bytes);
+  std::string out;
+  EXPECT_EQ(map("--input " + dir + "/lying.simplemap --out " + dir + "/lying", &out), 4) << out;
+  EXPECT_NE(out.find("lying.simplemap: keyframe 5 of 20 at byte " + std::to_string(starts[5]) +
+                     " is corrupt: it states a size no real record has"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(summaryNumber(test::readFile(dir + "/lying/summary.json"), "used"), 5);
+}
+
 // A simplemap cut inside a keyframe: exit 4, the keyframes before it mapped exactly as a
 // simplemap of those keyframes alone, every output written.
 TEST(Faults, ASimplemapCutInsideAKeyframeMapsEveryKeyframeBeforeIt) {

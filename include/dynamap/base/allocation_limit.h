@@ -25,14 +25,18 @@ std::size_t currentAllocationLimit();
 class AllocationLimit {
  public:
   /// While this object lives, single allocations above `max_bytes` on this thread throw
-  /// std::bad_alloc. Limits nest; the previous one is restored on destruction.
-  explicit AllocationLimit(std::size_t max_bytes = kMaxRecordAllocation);
+  /// std::bad_alloc, and so does any allocation that takes the bytes allocated since it was made
+  /// (frees not subtracted) past `max_total` (0: no such bound). The total catches a record that
+  /// states a count of many small things (a frame "of 67 million observations" is a deque grown
+  /// in 512-byte blocks, each under any single bound). Limits nest; the previous one is restored
+  /// on destruction, and what the inner one allocated counts in the outer one's total.
+  explicit AllocationLimit(std::size_t max_bytes = kMaxRecordAllocation, std::size_t max_total = 0);
   ~AllocationLimit();
   AllocationLimit(const AllocationLimit&) = delete;
   AllocationLimit& operator=(const AllocationLimit&) = delete;
 
  private:
-  std::size_t saved_;
+  std::size_t saved_, saved_total_, saved_used_;
 };
 
 }  // namespace dynamap

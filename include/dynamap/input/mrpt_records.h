@@ -31,8 +31,9 @@ inline std::size_t recordAllocationBound(std::uint64_t size_bound, std::uint64_t
   return recordAllocationBound(position < size_bound ? size_bound - position : 0);
 }
 
-/// Reads one top-level object under an AllocationLimit of `max_bytes`: a size in it beyond that
-/// throws std::bad_alloc instead of being allocated.
+/// Reads one top-level object under an AllocationLimit of `max_bytes` for any single allocation
+/// and 4 times that in all (a real record's buffers are a few copies of its largest): a size or a
+/// count in it beyond that throws std::bad_alloc instead of being allocated.
 mrpt::serialization::CSerializable::Ptr readBoundedObject(mrpt::io::CStream& in,
                                                           std::size_t max_bytes);
 

@@ -78,9 +78,22 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   /// P(occupied) of S at a cell (1 - getCell()); 0.5 outside the grid.
   float staticOccupancy(int cx, int cy) const;
   /// S's state that conditions the model: Free when P(occ) < free_threshold.
-  bool isStaticFree(int cx, int cy) const;
+  bool isStaticFree(int cx, int cy) const {
+    if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return false;
+    return m_map[cx + static_cast<std::size_t>(cy) * m_size_x] >= free_cell_;
+  }
+  /// S holds the cell occupied (staticOccupancy > 0.5: its log-odds of free below 0); false
+  /// outside the grid. Inline: the people detector asks it for every cell around a detection.
+  bool isStaticOccupied(int cx, int cy) const {
+    if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return false;
+    return m_map[cx + static_cast<std::size_t>(cy) * m_size_x] < 0;
+  }
   /// D cell above object_threshold.
-  bool isObjectCell(int cx, int cy) const;
+  bool isObjectCell(int cx, int cy) const {
+    if (static_cast<unsigned>(cx) >= layer_size_x_ || static_cast<unsigned>(cy) >= layer_size_y_)
+      return false;
+    return isObjectIndex(cx + static_cast<std::size_t>(cy) * layer_size_x_);
+  }
   bool isObjectIndex(std::size_t index) const { return dyn_[index] < object_cell_; }
   /// Raw D cells, row by row like getRawMap() when layersAligned().
   const std::vector<cellType>& dynamicRaw() const { return dyn_; }

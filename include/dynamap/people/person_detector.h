@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "dynamap/base/range_data.h"
 #include "dynamap/people/people_options.h"
 
 namespace dynamap {
@@ -36,6 +37,10 @@ struct ScanHits {
   double max_range = 0;        ///< [m] a beam without an echo saw free space this far
   double step = 0;             ///< [rad] between neighbouring beams
 };
+/// The hits of a scan whose geometry is `rd`, taken with the robot at `robot`: its Hit beams
+/// (an echo below rd.insertion_range); an echo at or past it is free space that far.
+ScanHits scanHits(const RangeData& rd, const mrpt::poses::CPose2D& robot);
+/// The same for a scan whose RangeData the caller has not made (tests, tools).
 ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& robot,
                   double max_range);
 
