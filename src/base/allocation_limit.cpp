@@ -12,9 +12,15 @@ thread_local std::size_t t_total_limit = 0;       // 0: no limit
 thread_local std::size_t t_total_used = 0;        // bytes allocated under the live limit
 
 // Throws std::bad_alloc when an allocation of n bytes breaks the live limit of this thread.
+// The total trips once: the handlers that unwind the failed read (MRPT formats its exception
+// messages with a call stack) must still allocate, or the bad_alloc would terminate the program.
 inline void checkLimit(std::size_t n) {
   if (t_allocation_limit != 0 && n > t_allocation_limit) throw std::bad_alloc();
-  if (t_total_limit != 0 && (t_total_used += n) > t_total_limit) throw std::bad_alloc();
+  t_total_used += n;  // counted under any limit: an inner one's bytes count in the outer's total
+  if (t_total_limit != 0 && t_total_used > t_total_limit) {
+    t_total_limit = 0;  // until the limit's scope ends
+    throw std::bad_alloc();
+  }
 }
 }  // namespace
 

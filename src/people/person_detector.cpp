@@ -47,8 +47,7 @@ ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::po
   return scanHits(makeRangeData(scan, max_range, M_PI), robot);
 }
 
-std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& hits,
-                                     int guard) {
+std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& hits, int guard) {
   std::vector<HitPoint2> out;
   for (const HitPoint2& p : hits.points) {
     // Off the grid S knows nothing there. Compared as coordinates first: a far point's cell
@@ -164,7 +163,6 @@ int objectExtentCells(const DynamicGridMap& map, const PeopleOptions& o) {
   return static_cast<int>(std::ceil(o.object_max_extent / map.getResolution()));
 }
 
-
 std::int64_t cellKey(int x, int y) {
   return static_cast<std::int64_t>(static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32 |
                                    static_cast<std::uint32_t>(y));
@@ -263,7 +261,8 @@ bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptio
 std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanHits& hits,
                                           const PeopleOptions& o) {
   const std::vector<HitPoint2> free = freeSpaceHits(map, hits, o.wall_guard_cells);
-  std::vector<PersonDetection> out = pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
+  std::vector<PersonDetection> out =
+      pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
   std::unordered_set<std::int64_t> large;  // cells of S's walls met so far, for every detection
   BlobMarks seen(objectExtentCells(map, o));
   for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o, large, seen);

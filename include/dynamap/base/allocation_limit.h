@@ -28,7 +28,8 @@ class AllocationLimit {
   /// std::bad_alloc, and so does any allocation that takes the bytes allocated since it was made
   /// (frees not subtracted) past `max_total` (0: no such bound). The total catches a record that
   /// states a count of many small things (a frame "of 67 million observations" is a deque grown
-  /// in 512-byte blocks, each under any single bound). Limits nest; the previous one is restored
+  /// in 512-byte blocks, each under any single bound); it throws once, then no longer applies in
+  /// this limit's scope (so that unwinding can allocate). Limits nest; the previous one is restored
   /// on destruction, and what the inner one allocated counts in the outer one's total.
   explicit AllocationLimit(std::size_t max_bytes = kMaxRecordAllocation, std::size_t max_total = 0);
   ~AllocationLimit();

@@ -34,8 +34,8 @@ struct ScanHits {
   std::vector<double> angles;  ///< per beam: its direction in the map frame [rad]
   /// cos and sin of `angles` (filled by scanHits; empty: viewDisc works them out itself)
   std::vector<double> cosines, sines;
-  double max_range = 0;        ///< [m] a beam without an echo saw free space this far
-  double step = 0;             ///< [rad] between neighbouring beams
+  double max_range = 0;  ///< [m] a beam without an echo saw free space this far
+  double step = 0;       ///< [rad] between neighbouring beams
 };
 /// The hits of a scan whose geometry is `rd`, taken with the robot at `robot`: its Hit beams
 /// (an echo below rd.insertion_range); an echo at or past it is free space that far.
