@@ -56,15 +56,23 @@ TrackLog::TrackLog(const std::string& dir)
     : file_(dir, "tracks.csv", "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n") {}
 
 void TrackLog::append(std::size_t scan_index, double t, const ObjectTracker& tracker) {
-  std::ostream& out = file_.out();
+  // Every present object every scan: the rows are built in one reused buffer, one write a scan.
+  rows_.clear();
   for (const TrackedObject& o : tracker.objects()) {
     if (o.state != ObjectState::Present) continue;
     const ShapeEstimate& s = o.shape;
-    out << scan_index << ',' << fmt("%.6f", t) << ',' << o.id << ',' << fmt("%.3f", s.cx) << ','
-        << fmt("%.3f", s.cy) << ',' << fmt("%.3f", s.size) << ',' << fmt("%.3f", s.x_min) << ','
-        << fmt("%.3f", s.x_max) << ',' << fmt("%.3f", s.y_min) << ',' << fmt("%.3f", s.y_max)
-        << '\n';
+    appendInt(rows_, scan_index);
+    rows_ += ',';
+    appendFixed(rows_, t, 6);
+    rows_ += ',';
+    appendInt(rows_, o.id);
+    for (const double v : {s.cx, s.cy, s.size, s.x_min, s.x_max, s.y_min, s.y_max}) {
+      rows_ += ',';
+      appendFixed(rows_, v, 3);
+    }
+    rows_ += '\n';
   }
+  file_.out() << rows_;
 }
 
 PoseLog::PoseLog(const std::string& dir)

@@ -6,7 +6,12 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
+#include <random>
+
+#include "dynamap/outputs/format.h"
 
 #include "../test_util.h"
 
@@ -23,6 +28,31 @@ DynamicGridMap wallMap() {
   for (int k = 0; k < 20; ++k)
     m.insertObservation(*test::makeScan({1.5f}, 0.001), CPose3D(0.05, 0.05, 0, 0, 0, 0));
   return m;
+}
+
+// The rows written every scan use appendFixed: it must give printf's characters exactly, or the
+// CSVs would change with the speed-up.
+TEST(Format, AppendFixedWritesWhatPrintfWrites) {
+  std::vector<double> values = {0.0,    -0.0,   0.0005, -0.0005, 0.0015, 2.5e-4, 1e15, -1e15,
+                                1e300,  -1e300, 5e-324, 123.4565, 1704067245.123456789,
+                                std::numeric_limits<double>::infinity(),
+                                -std::numeric_limits<double>::infinity(),
+                                std::numeric_limits<double>::quiet_NaN()};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> metres(-500.0, 500.0), exponent(-12.0, 12.0);
+  for (int i = 0; i < 20000; ++i) values.push_back(metres(rng));
+  for (int i = 0; i < 5000; ++i) values.push_back(metres(rng) * std::pow(10.0, exponent(rng)));
+  for (const double v : values) {
+    for (const int decimals : {3, 6}) {
+      std::string got = "x";
+      appendFixed(got, v, decimals);
+      EXPECT_EQ(got, "x" + fmt(decimals == 3 ? "%.3f" : "%.6f", v)) << v;
+    }
+  }
+  std::string ints;
+  appendInt(ints, std::size_t{18446744073709551615u});
+  appendInt(ints, -42);
+  EXPECT_EQ(ints, "18446744073709551615-42");
 }
 
 TEST(MapOutputs, TheRosMapIsAPgmNorthUpWithItsOrigin) {

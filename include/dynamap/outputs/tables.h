@@ -44,6 +44,7 @@ class TrackLog {
 
  private:
   StreamedFile file_;
+  std::string rows_;  // a scan's rows, the buffer kept for its capacity
 };
 
 /// people.csv: after every scan, one row per person the tracker reports
