@@ -13,7 +13,13 @@ namespace dynamap {
 
 ScanHits scanHits(const RangeData& rd, const mrpt::poses::CPose2D& robot) {
   ScanHits h;
+  scanHits(rd, robot, h);
+  return h;
+}
+
+void scanHits(const RangeData& rd, const mrpt::poses::CPose2D& robot, ScanHits& h) {
   const std::size_t n = rd.size();
+  h.points.clear();
   const mrpt::poses::CPose2D sensor = rd.sensorIn(mrpt::poses::CPose3D(robot));
   h.sensor_x = sensor.x();
   h.sensor_y = sensor.y();
@@ -39,7 +45,6 @@ ScanHits scanHits(const RangeData& rd, const mrpt::poses::CPose2D& robot) {
     const double r = rd.ranges[i];
     h.points.push_back({h.sensor_x + r * h.cosines[i], h.sensor_y + r * h.sines[i], i});
   }
-  return h;
 }
 
 ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& robot,

@@ -159,10 +159,10 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   const RangeData& rd = range_;
   result.pose = matcher_ ? correctPose(rec, rd) : rec.pose;  // 2. where the scan was taken
   // 3. People, detected against S as it was before this scan (the paper's S_{t-1}).
-  ScanHits hits;
+  ScanHits& hits = hits_;
   std::vector<PersonDetection> people;
   if (config_.people.enabled) {
-    hits = scanHits(rd, result.pose);
+    scanHits(rd, result.pose, hits);
     people = detectPeople(map_, hits, config_.people);
   }
   map_.insertRange(rd, result.pose);  // 4. S and D

@@ -40,6 +40,8 @@ struct ScanHits {
 /// The hits of a scan whose geometry is `rd`, taken with the robot at `robot`: its Hit beams
 /// (an echo below rd.insertion_range); an echo at or past it is free space that far.
 ScanHits scanHits(const RangeData& rd, const mrpt::poses::CPose2D& robot);
+/// The same into `out`, reusing its buffers (the per-scan step allocates nothing once warm).
+void scanHits(const RangeData& rd, const mrpt::poses::CPose2D& robot, ScanHits& out);
 /// The same for a scan whose RangeData the caller has not made (tests, tools).
 ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& robot,
                   double max_range);

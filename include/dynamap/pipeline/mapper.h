@@ -109,6 +109,7 @@ class Mapper {
   PersonTracker people_;
   RobotPath path_;
   RangeData range_;  // this scan's geometry; its buffers kept from scan to scan
+  ScanHits hits_;     // this scan's hit points for the people detector; likewise
   RunCounts counts_;
   bool have_t_ = false;
   std::unique_ptr<ScanMatcher> matcher_;  // null unless poses is ScanMatching
