@@ -309,6 +309,14 @@ bool CarmenParams::applyParam(const std::string& name, const std::string& value,
     if (positive_only && v <= 0) {
       throw CarmenParseError("PARAM " + name + ": " + value + " must be positive");
     }
+    // No laser sweeps more than a turn (nor steps more than one between beams): 1e300 is a
+    // damaged number, not a geometry to make the scan's aperture infinite with.
+    const bool angle =
+        k.field == &CarmenLaserParams::fov_deg || k.field == &CarmenLaserParams::resolution_deg;
+    if (angle && v > 360) {
+      throw CarmenParseError("PARAM " + name + ": " + value +
+                             " is no angle of a laser (over 360 deg)");
+    }
     const bool radians = k.field == &CarmenLaserParams::fov_deg && v <= kMaxRadianFov;
     (this->*k.laser).*k.field = radians ? v / kDeg : v;
     if (radians && note) {

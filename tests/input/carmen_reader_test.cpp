@@ -419,6 +419,10 @@ TEST(CarmenParams, OnlyTheLaserOnesMatter) {
   EXPECT_TRUE(p.applyParam("laser_front_laser_fov", "180"));
   EXPECT_FALSE(p.applyParam("robot_use_sonar", "off"));
   EXPECT_THROW(p.applyParam("laser_front_laser_resolution", "0"), CarmenParseError);
+  // An angle over a turn is a damaged number, not an infinite aperture.
+  EXPECT_THROW(p.applyParam("laser_front_laser_fov", "1e300"), CarmenParseError);
+  EXPECT_THROW(p.applyParam("laser_rear_laser_resolution", "361"), CarmenParseError);
+  EXPECT_TRUE(p.applyParam("laser_rear_laser_fov", "360"));
   EXPECT_DOUBLE_EQ(*p.front.offset_x, -0.04);
   EXPECT_DOUBLE_EQ(*p.front.fov_deg, 180);
   EXPECT_FALSE(p.rear.offset_x);
