@@ -23,7 +23,10 @@ void scanHits(const RangeData& rd, const mrpt::poses::CPose2D& robot, ScanHits& 
   const mrpt::poses::CPose2D sensor = rd.sensorIn(mrpt::poses::CPose3D(robot));
   h.sensor_x = sensor.x();
   h.sensor_y = sensor.y();
-  h.max_range = rd.insertion_range;
+  // A beam without an echo saw nothing as far as the sensor reaches, not as far as the grid
+  // inserts: a person just out of the sensor's range is unseen, not seen gone.
+  h.max_range = rd.sensor_max_range > 0 ? std::min(rd.insertion_range, rd.sensor_max_range)
+                                        : rd.insertion_range;
   h.step = std::abs(rd.step);
   h.ranges.resize(n);
   h.angles.resize(n);

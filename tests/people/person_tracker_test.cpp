@@ -40,6 +40,18 @@ TEST(ViewDisc, OccupiedEmptyAndUnseen) {
   EXPECT_EQ(viewDisc(h, -3, 0, 0.2), DiscView::Unseen);   // behind the sensor
 }
 
+TEST(ViewDisc, ABeamWithoutEchoSeesOnlyAsFarAsTheSensorReaches) {
+  // An 8 m laser that saw nothing; the grid inserts up to 15 m. A disc 5 m out was seen empty,
+  // one 10 m out was not seen at all (before: "empty", and a person walking out of the laser's
+  // range was taken for gone).
+  std::vector<float> none(181, 0.0f);  // every beam without an echo
+  const auto scan = test::makeScan(none, M_PI, 0.0, 8.0f);
+  const ScanHits h = scanHits(*scan, mrpt::poses::CPose2D(0, 0, 0), 15.0);
+  EXPECT_DOUBLE_EQ(h.max_range, 8.0);
+  EXPECT_EQ(viewDisc(h, 5, 0, 0.2), DiscView::Empty);
+  EXPECT_EQ(viewDisc(h, 10, 0, 0.2), DiscView::Unseen);
+}
+
 // --- runs over simulated worlds ----------------------------------------------------------------
 
 // A 20 m wide hall, 2 * half_height tall; the robot stands at `robot` ("x y") looking along +x
