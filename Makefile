@@ -9,6 +9,8 @@
 #   make scenarios  regenerate every bundled rawlog and its ground truth from config/scenarios/
 #   make eval    map every bundled scenario and score it against its ground truth beside the
 #                paper's Table 3 (docs/evaluation.md)
+#   make eval-heldout  the same for the held-out worlds of config/heldout/ (simulated into
+#                out/heldout/ first): worlds written to check the defaults, never to set them
 #   make test-asan  build into build-asan/ with AddressSanitizer + UndefinedBehaviorSanitizer and
 #                run every test there
 #   make fuzz    install clang, build the libFuzzer targets into build-fuzz/ and run each for
@@ -48,7 +50,7 @@ DATASETS ?= datasets
 FREIBURG := $(DATASETS)/carmen/freiburg-079-corrected.log.gz
 BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corridors.rawlog)
 
-.PHONY: all deps configure build test demo bench format clean scenarios eval test-asan fuzz \
+.PHONY: all deps configure build test demo bench format clean scenarios eval eval-heldout test-asan fuzz \
   fuzz-deps bench-long compare-icp-slam
 
 all: build
@@ -113,6 +115,19 @@ eval: build
 	  echo; \
 	done
 	@$(DYNAMAP) eval --summary $(addprefix out/,$(EVAL_SCENARIOS))
+
+HELDOUT_SCENARIOS := $(basename $(notdir $(wildcard config/heldout/*.ini)))
+eval-heldout: build
+	@for s in $(HELDOUT_SCENARIOS); do \
+	  $(DYNAMAP) simulate --scenario config/heldout/$$s.ini --out out/heldout/$$s/truth \
+	    >/dev/null || exit 1; \
+	  $(DYNAMAP) map --config config/default.ini --poses ground_truth \
+	    --input out/heldout/$$s/truth/$$s.rawlog --out out/heldout/$$s || exit 1; \
+	  $(DYNAMAP) eval --scenario config/heldout/$$s.ini --truth out/heldout/$$s/truth/$$s \
+	    --result out/heldout/$$s || exit 1; \
+	  echo; \
+	done
+	@$(DYNAMAP) eval --summary $(addprefix out/heldout/,$(HELDOUT_SCENARIOS))
 
 # The whole suite under ASan + UBSan. MRPT is not instrumented: .ci/lsan.supp is where leaks
 # inside MRPT's own libraries would be suppressed (never ours).
