@@ -7,12 +7,14 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "cli.h"
@@ -166,6 +168,38 @@ std::vector<TrackRow> readTracks(const std::string& path) {
     rows.push_back(r);
   }
   return rows;
+}
+
+/// The ids of the final object table (objects.csv).
+std::set<int> readTableIds(const std::string& path) {
+  CsvReader csv(path,
+                "id,label,size_m,cx,cy,x_min,x_max,y_min,y_max,state,first_seen_t,last_seen_t,"
+                "n_moves");
+  std::set<int> ids;
+  for (std::vector<std::string> f; csv.next(f);) {
+    ids.insert(static_cast<int>(csv.integer(f[0], "id")));
+  }
+  return ids;
+}
+
+/// Drops the rows of objects the final table does not hold (withdrawn: a person who stood
+/// and walked off) and says how many there were.
+void keepTableRows(const fs::path& objects_csv, std::vector<TrackRow>& rows,
+                   std::vector<std::string>& notes) {
+  if (!fs::exists(objects_csv)) return;
+  const std::set<int> table = readTableIds(objects_csv.string());
+  std::set<int> dropped;
+  rows.erase(std::remove_if(rows.begin(), rows.end(),
+                            [&](const TrackRow& r) {
+                              if (table.count(r.object_id)) return false;
+                              dropped.insert(r.object_id);
+                              return true;
+                            }),
+             rows.end());
+  if (!dropped.empty()) {
+    notes.push_back(std::to_string(dropped.size()) +
+                    " object(s) of tracks.csv withdrawn as people (not in objects.csv): ignored");
+  }
 }
 
 std::vector<PersonTrackRow> readPeople(const std::string& path) {
@@ -371,6 +405,8 @@ void printTable(std::ostream& o, const Evaluation& ev) {
   line("correctly detected", ob.correct, kPaperDetected);
   line("not detected", ob.not_detected, kPaperNotDetected);
   line("static detected as objects", ob.static_as_objects, kPaperStatic);
+  o << "  " << std::left << std::setw(30) << "people detected as objects" << std::right
+    << std::setw(6) << ob.people_as_objects << "\n";
   line("size estimation errors", ob.size_errors, kPaperSize);
   o << "  latency median / max            " << num(ob.latency.median_s, 2, "n/a") << " / "
     << num(ob.latency.max_s, 2, "n/a") << " s  (" << num(ob.latency.median_scans, 1, "n/a") << " / "
@@ -464,6 +500,7 @@ Json tableFiguresJson(const Evaluation& ev) {
           {"correctly_detected", ob.correct},
           {"not_detected", ob.not_detected},
           {"static_detected_as_objects", ob.static_as_objects},
+          {"people_detected_as_objects", ob.people_as_objects},
           {"size_estimation_errors", ob.size_errors},
           {"latency_median_s", jnum(ob.latency.median_s, 3)},
           {"latency_max_s", jnum(ob.latency.max_s, 3)},
@@ -610,6 +647,7 @@ const SummaryRow kSummaryRows[] = {
     {"correctly detected", "correctly_detected", kPaperDetected},
     {"not detected", "not_detected", kPaperNotDetected},
     {"static detected as objects", "static_detected_as_objects", kPaperStatic},
+    {"people detected as objects", "people_detected_as_objects", nullptr},
     {"size estimation errors", "size_estimation_errors", kPaperSize},
     {"latency median (s)", "latency_median_s", nullptr},
     {"latency max (s)", "latency_max_s", nullptr},
@@ -684,9 +722,10 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
   const fs::path tracks = fs::path(result) / "tracks.csv";
   ev.have_tracks = fs::exists(tracks);
   std::vector<TrackRow> track_rows;
-  if (ev.have_tracks)
+  if (ev.have_tracks) {
     track_rows = readTracks(tracks.string());
-  else
+    keepTableRows(fs::path(result) / "objects.csv", track_rows, ev.notes);
+  } else
     ev.notes.push_back("the result has no tracks.csv: no object was reported");
   try {
     ev.objects = evaluateObjects(rows, moves, track_rows);

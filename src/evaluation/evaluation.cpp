@@ -235,6 +235,9 @@ ObjectScores evaluateObjects(const std::vector<TruthRow>& rows, const std::vecto
   for (const auto& a : out.ids) {
     if (a.matches > 0) assigned[a.track_id] = a.body;
     if (a.static_object) ++out.static_as_objects;
+    if (!a.static_object && a.matches > 0 && a.body.kind == sim::BodyKind::Person) {
+      ++out.people_as_objects;
+    }
   }
   std::vector<TruthMove> sorted = moves;
   std::sort(sorted.begin(), sorted.end(),

@@ -3,7 +3,15 @@
 namespace dynamap {
 
 const char* toString(ObjectState s) {
-  return s == ObjectState::Present ? "present" : "absent";
+  switch (s) {
+    case ObjectState::Present:
+      return "present";
+    case ObjectState::Absent:
+      return "absent";
+    case ObjectState::Withdrawn:
+      return "withdrawn";
+  }
+  return "?";
 }
 
 const char* toString(ObjectEvent e) {
@@ -16,6 +24,8 @@ const char* toString(ObjectEvent e) {
       return "disappeared";
     case ObjectEvent::Reappeared:
       return "reappeared";
+    case ObjectEvent::Withdrawn:
+      return "withdrawn";
   }
   return "?";
 }

@@ -292,12 +292,19 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
       continue;
     }
     const Track& tr = it->second;
-    if (!passesFilters(tr, tent->shape, options_) || nearKeepOut(tent->shape)) {
+    if (!passesFilters(tr, tent->shape, options_)) {
       tent->passes = 0;
       pending_.erase(key);
       continue;
     }
+    if (nearKeepOut(tent->shape)) {  // a person there now: judged again once they have left
+      tent->passes = 0;
+      tent->kept_out = true;
+      pending_.insert(key);
+      continue;
+    }
     pending_.insert(key);
+    if (tent->kept_out && !seenOccupied(view, tent->shape)) continue;
     if (tent->passes == 0) tent->first_t = t;
     // Count only scans that left its size as it was: an object is judged once its size has
     // settled (it is all there, and the robot has seen enough of it to tell its size).
@@ -325,7 +332,7 @@ void ObjectTracker::identityCandidates(const ShapeEstimate& s, int exclude_id,
                                        std::vector<int>& ids) const {
   const double margin = std::max(0.05, 2 * resolution_);
   for (const TrackedObject& o : objects_) {
-    if (o.id == exclude_id) continue;
+    if (o.id == exclude_id || o.state == ObjectState::Withdrawn) continue;
     const bool absent = o.state == ObjectState::Absent;
     const double dist = std::hypot(o.shape.cx - s.cx, o.shape.cy - s.cy);
     // A present object right here would have been followed, not re-found.
@@ -450,6 +457,20 @@ void ObjectTracker::updateLastSeen(const ScanView& view, double t) {
       o.last_seen_t = t;
     }
   }
+}
+
+bool ObjectTracker::withdraw(int id, double t, std::size_t scan_index) {
+  if (id < 1 || id > static_cast<int>(objects_.size())) return false;
+  TrackedObject& o = object(id);
+  if (o.state != ObjectState::Absent) return false;
+  o.state = ObjectState::Withdrawn;
+  emit(t, scan_index, o, ObjectEvent::Withdrawn);
+  return true;
+}
+
+bool ObjectTracker::seenOccupied(const ScanView& view, const ShapeEstimate& s) const {
+  const double margin = std::max(0.05, 2 * resolution_);
+  return viewOf(view, s.cx, s.cy, 0.5 * s.size, margin) == PlaceView::SeenOccupied;
 }
 
 bool ObjectTracker::nearKeepOut(const ShapeEstimate& shape) const {

@@ -14,18 +14,24 @@ namespace dynamap {
 namespace {
 
 Json objectSummary(const ObjectTracker& tracker) {
-  std::size_t present = 0, absent = 0;
+  std::size_t present = 0, absent = 0, withdrawn = 0;
   for (const TrackedObject& ob : tracker.objects()) {
-    (ob.state == ObjectState::Present ? present : absent) += 1;
+    (ob.state == ObjectState::Present ? present
+     : ob.state == ObjectState::Absent ? absent
+                                       : withdrawn) += 1;
   }
+  // The events of the table's objects, as events.csv holds them.
   std::map<std::string, std::size_t> by_event{
       {"new", 0}, {"moved", 0}, {"disappeared", 0}, {"reappeared", 0}};
-  for (const EventRecord& e : tracker.events()) ++by_event[toString(e.event)];
+  for (const EventRecord& e : tracker.events()) {
+    if (inTable(tracker, e.object_id)) ++by_event[toString(e.event)];
+  }
   Json events = Json::object();
   for (const auto& kv : by_event) events[kv.first] = kv.second;
   return {{"enabled", tracker.options().enabled},
-          {"total", tracker.objects().size()},
+          {"total", present + absent},
           {"by_state", {{"present", present}, {"absent", absent}}},
+          {"withdrawn_as_people", withdrawn},
           {"events", events}};
 }
 

@@ -84,9 +84,14 @@ void PoseLog::append(double t, const mrpt::poses::CPose2D& pose) {
   file_.out() << buf;
 }
 
+bool inTable(const ObjectTracker& tracker, int id) {
+  return tracker.objects()[static_cast<std::size_t>(id - 1)].state != ObjectState::Withdrawn;
+}
+
 void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {
   o << "id,label,size_m,cx,cy,x_min,x_max,y_min,y_max,state,first_seen_t,last_seen_t,n_moves\n";
   for (const TrackedObject& ob : tracker.objects()) {
+    if (ob.state == ObjectState::Withdrawn) continue;
     const ShapeEstimate& s = ob.shape;
     o << ob.id << ',' << ob.label << ',' << fmt("%.3f", s.size) << ',' << fmt("%.3f", s.cx) << ','
       << fmt("%.3f", s.cy) << ',' << fmt("%.3f", s.x_min) << ',' << fmt("%.3f", s.x_max) << ','
@@ -99,6 +104,7 @@ void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {
 void writeEventsCsv(std::ostream& o, const ObjectTracker& tracker) {
   o << "t,scan_index,object_id,event,cx,cy,size_m\n";
   for (const EventRecord& e : tracker.events()) {
+    if (!inTable(tracker, e.object_id)) continue;
     o << fmt("%.6f", e.t) << ',' << e.scan_index << ',' << e.object_id << ',' << toString(e.event)
       << ',' << fmt("%.3f", e.cx) << ',' << fmt("%.3f", e.cy) << ',' << fmt("%.3f", e.size) << '\n';
   }

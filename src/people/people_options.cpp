@@ -32,8 +32,9 @@ const OptionTable<PeopleOptions>& PeopleOptions::table() {
           {"confirm_s", &O::confirm_s, Range::closed(0, 600), "s",
            "a new track is a person after moving this long without a pause"},
           {"confirm_static_s", &O::confirm_static_s, Range::closed(0, 600), "s",
-           "...this long when it appeared near an object (D's object cells, a small body of S; at least confirm_s)"},
-          {"static_clearance", &O::static_clearance, Range::closed(0, 2), "m", "...this near"},
+           "...this long when it appeared near an object (D's object cells, a small body of S; at least confirm_s), unless seen as two legs"},
+          {"static_clearance", &O::static_clearance, Range::closed(0, 2), "m",
+           "...this near (objects reported this near where such a track stood, gone when it walked off, were it)"},
           {"object_max_extent", &O::object_max_extent, Range::closed(0, 10), "m",
            "...of a body S holds that fits in a square this wide (larger ones are walls)"},
           {"moving_speed", &O::moving_speed, Range::closed(0, 10), "m/s",
@@ -59,7 +60,7 @@ const OptionTable<PeopleOptions>& PeopleOptions::table() {
           {"empty_scans", &O::empty_scans, Range::closed(1, 1000), "",
            "a lost person's place seen empty this many scans in a row ends them"},
           {"exclusion_radius", &O::exclusion_radius, Range::closed(0, 5), "m",
-           "no object is confirmed this near a person; 0 = off"},
+           "no object is confirmed this near a person (their legs); 0 = off"},
       });
   return t;
 }

@@ -147,6 +147,7 @@ void PersonTracker::advanceTentative(PersonTrack& tr, double t) {
     st.moving_since_t = t;
     st.from_x = tr.filter.x();
     st.from_y = tr.filter.y();
+    st.pair_seen = false;
     return;
   }
   const double moving = t - st.moving_since_t;
@@ -158,7 +159,14 @@ void PersonTracker::advanceTentative(PersonTrack& tr, double t) {
     confirm(tr, t);
     return;
   }
-  const double needed = st.near_static ? options_.confirm_static_s : options_.confirm_s;
+  // Two legs, most of the time, and the pair itself walking: a person walking off from where
+  // they stood, not an object moved (one cluster). (Legs seen one at a time, or two small
+  // objects side by side, make a track that stands jump about within the pair's span.)
+  const bool legs = st.detections >= kLegsSeen && 2 * st.leg_pairs > st.detections &&
+                    st.pair_seen &&
+                    std::hypot(st.pair_x - st.pair_from_x, st.pair_y - st.pair_from_y) >=
+                        options_.confirm_travel;
+  const double needed = st.near_static && !legs ? options_.confirm_static_s : options_.confirm_s;
   if (moving < needed || travel < options_.confirm_travel) return;
   confirm(tr, t);
 }
@@ -185,6 +193,9 @@ PersonTrack* PersonTracker::reidentify(double x, double y, double t) {
 }
 
 void PersonTracker::confirm(PersonTrack& tr, double t) {
+  if (const auto* tent = std::get_if<TentativeState>(&tr.state); tent && tent->near_static) {
+    walk_offs_.push_back({tent->born_x, tent->born_y, tent->from_x, tent->from_y, tent->born_t});
+  }
   PersonTrack* lost = reidentify(tr.filter.x(), tr.filter.y(), t);
   if (lost != nullptr) {  // a person back in view: their id, their figures so far
     tr.id = lost->id;
@@ -217,7 +228,15 @@ void PersonTracker::correct(PersonTrack& tr, const PersonDetection& d, double t)
   tr.last_detected_t = t;
   tr.detected_x = tr.filter.x();
   tr.detected_y = tr.filter.y();
-  if (tr.kind() == PersonState::Tentative) {
+  if (auto* tent = std::get_if<TentativeState>(&tr.state)) {
+    ++tent->detections;
+    if (d.legs == 2) {
+      ++tent->leg_pairs;
+      if (!tent->pair_seen) tent->pair_from_x = d.x, tent->pair_from_y = d.y;
+      tent->pair_seen = true;
+      tent->pair_x = d.x;
+      tent->pair_y = d.y;
+    }
     advanceTentative(tr, t);
   } else {
     tr.state = ConfirmedState{};
@@ -293,6 +312,7 @@ bool isReported(const PersonTrack& tr) {
 
 void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanHits& hits,
                            double t) {
+  walk_offs_.clear();
   predictAll(t);
   const std::vector<int> match = associate(dets);
   std::vector<char> used(dets.size(), 0);
@@ -339,7 +359,8 @@ void PersonTracker::startTrack(const PersonDetection& d, double t) {
   const bool near_static = d.near_static || nearStaticTrack(d.x, d.y, t);
   PersonTrack tr{next_key_++, 0,
                  ConstantVelocityFilter(d.x, d.y, options_.measurement_std, kInitialVelocityStd),
-                 TentativeState{t, d.x, d.y, near_static, t}};
+                 TentativeState{t, d.x, d.y, near_static, t, d.x, d.y, 1,
+                                d.legs == 2 ? 1 : 0}};
   tr.last_detected_t = t;
   tr.detected_x = d.x;
   tr.detected_y = d.y;
@@ -369,6 +390,17 @@ std::vector<PersonSummary> PersonTracker::summaries() const {
 }
 
 std::vector<PersonTrail> PersonTracker::trails() const { return trails_; }
+
+std::vector<std::pair<double, double>> PersonTracker::standingLegs() const {
+  std::vector<std::pair<double, double>> out;
+  for (const PersonTrack& tr : tracks_) {
+    const auto* tent = std::get_if<TentativeState>(&tr.state);
+    if (tent && tr.last_detected_t == last_t_ && tent->detections >= kLegsSeen &&
+        2 * tent->leg_pairs > tent->detections)
+      out.emplace_back(tr.filter.x(), tr.filter.y());
+  }
+  return out;
+}
 
 std::vector<std::pair<double, double>> PersonTracker::personPositions() const {
   std::vector<std::pair<double, double>> out;

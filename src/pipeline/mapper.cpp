@@ -113,6 +113,7 @@ Mapper::Mapper(const MapConfig& config)
       map_(config.map, config.insertion),
       tracker_(config.objects),
       people_(config.people),
+      people_objects_(config.people),
       path_(config.map.resolution) {
   if (config.poses == PoseSource::ScanMatching) {
     matcher_ = std::make_unique<ScanMatcher>(config.scan_matching);
@@ -176,6 +177,7 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   result.inserted = true;
   ++counts_.scans_used;
   // 5. People tracked; where they are, no object is confirmed (exclusion_radius > 0).
+  const std::size_t events_before = tracker_.events().size();
   if (config_.people.enabled) {
     people_.update(people, hits, rec.t);
     std::vector<ObjectTracker::KeepOut> keep_out;
@@ -186,7 +188,11 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   }
   // 6. Objects, from the D cells this scan changed and the scan's view of known places.
   tracker_.update(map_, makeScanView(rd, result.pose), rec.t, rec.index);
-  result.object_events = tracker_.eventsOfLastUpdate();
+  // 6b. What was a person standing goes from the table.
+  if (config_.people.enabled) {
+    people_objects_.update(people_, tracker_, events_before, rec.t, rec.index);
+  }
+  result.object_events = tracker_.events().size() - events_before;
   path_.add(result.pose.x(), result.pose.y());  // 7. the path the pictures draw
   return result;
 }

@@ -190,6 +190,21 @@ TEST(EvalObjects, FalseObjectFarFromEveryBodyIsStatic) {
   EXPECT_EQ(s.ids[1].far_rows, 4u);
   EXPECT_EQ(s.ids[1].matches, 0u);
   EXPECT_FALSE(s.ids[2].static_object);
+  EXPECT_EQ(s.people_as_objects, 0u);
+}
+
+TEST(EvalObjects, AnObjectOnAPersonIsAPersonDetectedAsAnObject) {
+  Truth t = twoObjects();
+  for (std::size_t k = 0; k < 20; ++k) {
+    t.rows.push_back({k, static_cast<double>(k), BodyKind::Person, 1, -3, -3, 0.45, 10});
+  }
+  std::vector<TrackRow> tracks;
+  addStill(tracks, 20);
+  // Id 40: a leg of person 1, 0.15 m from their centre, for 10 scans.
+  for (std::size_t k = 5; k < 15; ++k) tracks.push_back(track(k, 40, -3.15, -3.0));
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  EXPECT_EQ(s.people_as_objects, 1u);
+  EXPECT_EQ(s.static_as_objects, 0u);
 }
 
 TEST(EvalObjects, LatencyMedianAndMaxInSecondsAndScans) {

@@ -84,6 +84,44 @@ TEST(ObjectTracker, NewDisappearedReappearedMoved) {
                                                     ObjectEvent::Disappeared, ObjectEvent::Moved}));
 }
 
+TEST(ObjectTracker, AnObjectWhereAPersonStandsIsReportedOnceTheyHaveLeft) {
+  TrackerRun run;
+  const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+  run.steps(10, pose, {});
+  // Someone puts a bin down and stays beside it 4 s: no object while they are there...
+  run.tracker.setKeepOut({{1.0, 0.5, 0.5}});
+  run.steps(20, pose, {{1.0, 0.5, 0.4}});
+  EXPECT_TRUE(run.tracker.objects().empty());
+  // ...nor while its place is out of view once they have gone (what a person's legs left in
+  // D, not yet seen empty, is no object)...
+  run.tracker.setKeepOut({});
+  run.steps(20, mrpt::poses::CPose2D(-2.0, 0.0, M_PI), {{1.0, 0.5, 0.4}});
+  EXPECT_TRUE(run.tracker.objects().empty());
+  // ...and the bin, whose cells no longer change, is reported once seen there again.
+  run.steps(15, pose, {{1.0, 0.5, 0.4}});
+  ASSERT_EQ(run.tracker.objects().size(), 1u);
+  EXPECT_NEAR(run.tracker.objects()[0].shape.cx, 1.0, 0.05);
+}
+
+TEST(ObjectTracker, AWithdrawnObjectIsNeverAnIdentityAgain) {
+  TrackerRun run;
+  const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+  run.steps(10, pose, {});
+  run.steps(15, pose, {{1.0, 0.5, 0.4}});
+  run.steps(10, pose, {});  // gone: absent
+  ASSERT_EQ(run.tracker.objects().size(), 1u);
+  EXPECT_TRUE(run.tracker.withdraw(1, 7.0, 35));
+  EXPECT_EQ(run.tracker.objects()[0].state, ObjectState::Withdrawn);
+  EXPECT_EQ(run.events().back(), ObjectEvent::Withdrawn);
+  EXPECT_FALSE(run.tracker.withdraw(1, 7.0, 35));  // once
+  EXPECT_FALSE(run.tracker.withdraw(2, 7.0, 35));  // no such object
+  // The same size elsewhere would have "moved" there; it is a new object.
+  run.steps(15, pose, {{0.5, -1.5, 0.4}});
+  ASSERT_EQ(run.tracker.objects().size(), 2u);
+  EXPECT_EQ(run.tracker.objects()[1].n_moves, 0);
+  EXPECT_EQ(run.events().back(), ObjectEvent::New);
+}
+
 TEST(ObjectTracker, TwoSimilarSizesKeepTheirIds) {
   TrackerRun run;
   const mrpt::poses::CPose2D pose(-2.5, 0.0, 0.0);

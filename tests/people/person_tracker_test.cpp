@@ -52,6 +52,38 @@ TEST(ViewDisc, ABeamWithoutEchoSeesOnlyAsFarAsTheSensorReaches) {
   EXPECT_EQ(viewDisc(h, 10, 0, 0.2), DiscView::Unseen);
 }
 
+// Feeds a tracker `dets_of(t)` every 0.2 s up to `until` s; returns the first time a person is
+// reported, or -1.
+template <typename F>
+double firstReported(F dets_of, double until) {
+  PersonTracker tracker;
+  const ScanHits nothing;
+  for (int k = 0; 0.2 * k <= until; ++k) {
+    const double t = 0.2 * k;
+    tracker.update(dets_of(t), nothing, t);
+    if (!tracker.reported().empty()) return t;
+  }
+  return -1;
+}
+
+TEST(PersonTracker, TwoLegsWalkingOffFromAnObjectsPlaceAreAPersonSoon) {
+  // Something stands 2 s next to an object (near_static), then walks off along x at 1 m/s.
+  auto walker = [](int legs) {
+    return [legs](double t) {
+      PersonDetection d{t < 2 ? 0.0 : t - 2, 0, legs};
+      d.near_static = t < 3;  // the object's place is left behind after a metre
+      return std::vector<PersonDetection>{d};
+    };
+  };
+  // Seen as a pair of legs: a person after confirm_s (0.6 s) of walking and 0.5 m.
+  const double legs = firstReported(walker(2), 6);
+  EXPECT_GE(legs, 2.6);
+  EXPECT_LE(legs, 3.0);
+  // One cluster, as a moved object is seen: it must keep moving confirm_static_s (6 s).
+  EXPECT_EQ(firstReported(walker(0), 6), -1);
+  EXPECT_GE(firstReported(walker(0), 10), 8.0);
+}
+
 // --- runs over simulated worlds ----------------------------------------------------------------
 
 // A 20 m wide hall, 2 * half_height tall; the robot stands at `robot` ("x y") looking along +x
@@ -77,7 +109,9 @@ struct WorldRun {
   std::vector<Row> rows;               // every reported person, every scan
   std::vector<sim::ScanTruth> truth;   // every scan
   std::vector<PersonSummary> people;
-  std::size_t objects = 0;
+  std::size_t objects = 0;  // ever reported, withdrawn ones included
+  std::vector<TrackedObject> table;  // the final table (objects.csv): none withdrawn
+  std::size_t withdrawn = 0;
 };
 
 WorldRun runWorld(const std::string& ini_text, MapConfig config = {}) {
@@ -100,6 +134,13 @@ WorldRun runWorld(const std::string& ini_text, MapConfig config = {}) {
   }
   out.people = mapper.people().summaries();
   out.objects = mapper.tracker().objects().size();
+  for (const TrackedObject& o : mapper.tracker().objects()) {
+    if (o.state == ObjectState::Withdrawn) {
+      ++out.withdrawn;
+    } else {
+      out.table.push_back(o);
+    }
+  }
   return out;
 }
 
@@ -290,6 +331,51 @@ TEST(PersonTracker, AnIdGivenBackIsNeverAlsoKeptByTheTrackThatHadIt) {
       for (const PersonRow& r : tracker.reported()) EXPECT_GE(r.person_id, 1);
     }
   }
+}
+
+// --- people standing still, and the object table ---------------------------------------------
+
+// The robot at (-5, 0) looks east 2 s (the floor at (0, 2) seen free), turns and drives west
+// facing away 8 s, and turns back east at 14 s. Meanwhile a walker seen as two legs comes from
+// (6, 2), unseen, and stands at (0, 2) from 10 s for `stand_s`, then walks back east: the robot
+// first sees them standing, as D sees an object.
+std::string standingWorld(const std::string& extra, double stand_s, double duration_s) {
+  const std::string robot = "-5 0  -4 0  -8 0  -5 0\nloop = false\nspeed_mps = 0.5\nturn_rate_dps = 90";
+  return hall("[people]\nperson.1 = 0.45 1.0  6 2  0 2\nlegs.1 = 0.13 0.25\npause.1 = 1 1 4\n"
+              "pause.2 = 1 2 " + std::to_string(stand_s) + "\n" + extra,
+              duration_s, robot);
+}
+
+TEST(PeopleAndObjects, LegsOfSomeoneFirstSeenStandingAreWithdrawnWhenTheyWalkOff) {
+  const WorldRun r = runWorld(standingWorld("", 12, 30));
+  EXPECT_GE(r.withdrawn, 1u);  // reported while they stood: nobody could tell yet
+  EXPECT_TRUE(r.table.empty());
+  EXPECT_EQ(r.people.size(), 1u);  // and they are a person once they walk
+}
+
+TEST(PeopleAndObjects, AnObjectPutDownBesideThemStays) {
+  // A 0.35 m bin jumps (unseen, at 6 s) from the far south-east corner to beside the walker's
+  // place: it is an object, and stays one after they walk off.
+  const WorldRun r =
+      runWorld(standingWorld("[objects]\nobject.1 = 0.35  9 -4.5\n[moves]\nmove.1 = 6 1 0.6 1.2 0\n",
+                             12, 30));
+  ASSERT_EQ(r.table.size(), 1u);
+  EXPECT_NEAR(r.table[0].shape.cx, 0.6, 0.1);
+  EXPECT_NEAR(r.table[0].shape.cy, 1.2, 0.1);
+  EXPECT_EQ(r.table[0].state, ObjectState::Present);
+  EXPECT_GE(r.withdrawn, 1u);
+}
+
+TEST(PeopleAndObjects, TwoSmallObjectsPutDownSideBySideStay) {
+  // Leg-sized (0.18 m and 0.22 m), 0.5 m apart, both jumped there at once while the robot looks
+  // away: as like a pair of legs as objects get. They never leave: they stay objects.
+  const std::string robot = "-5 0  -4 0  -8 0  -5 0\nloop = false\nspeed_mps = 0.5\nturn_rate_dps = 90";
+  const WorldRun r = runWorld(hall("[objects]\nobject.1 = 0.18  9 -4.5\nobject.2 = 0.22  9 4.5\n"
+                                   "[moves]\nmove.1 = 5 1 0 2 0\nmove.2 = 5.4 2 0.5 2 0\n",
+                                   30, robot));
+  ASSERT_EQ(r.table.size(), 2u);
+  EXPECT_EQ(r.withdrawn, 0u);
+  for (const TrackedObject& o : r.table) EXPECT_EQ(o.state, ObjectState::Present);
 }
 
 }  // namespace

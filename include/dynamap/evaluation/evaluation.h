@@ -108,6 +108,9 @@ struct ObjectScores {
   std::size_t not_detected = 0;
   std::size_t size_errors = 0;        ///< moves with a size estimation error (may also be correct)
   std::size_t static_as_objects = 0;  ///< tracker ids that are mostly far from every body
+  /// Tracker ids (not static) whose rows match a person most often: someone standing, reported
+  /// as an object (the final table only: eval leaves withdrawn objects out).
+  std::size_t people_as_objects = 0;
   LatencyStats latency;
 };
 

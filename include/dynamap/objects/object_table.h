@@ -9,10 +9,11 @@
 
 namespace dynamap {
 
-enum class ObjectState { Present, Absent };
+/// Withdrawn: it was a person standing, who walked off (the table no longer holds it).
+enum class ObjectState { Present, Absent, Withdrawn };
 const char* toString(ObjectState s);
 
-enum class ObjectEvent { New, Moved, Disappeared, Reappeared };
+enum class ObjectEvent { New, Moved, Disappeared, Reappeared, Withdrawn };
 const char* toString(ObjectEvent e);
 
 struct PositionRecord {

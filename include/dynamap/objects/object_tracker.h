@@ -42,11 +42,18 @@ class ObjectTracker {
   void update(const DynamicGridMap& map, const ScanView& view, double t, std::size_t scan_index);
 
   /// Discs (x, y, r) where something that keeps moving is (people, from a layer above): a
-  /// cluster centred in one is never confirmed as an object. Applies from the next update on.
+  /// cluster centred in one is not confirmed as an object; once no disc holds it, only scans
+  /// that see it occupied count towards confirming it (what the person's legs left in D, not
+  /// yet seen empty, is no object). Applies from the next update on.
   struct KeepOut {
     double x, y, r;
   };
   void setKeepOut(std::vector<KeepOut> discs) { keep_out_ = std::move(discs); }
+
+  /// Withdraws object `id`, which is absent (gone from its place) and was a person standing, a
+  /// layer above found: state Withdrawn, a Withdrawn event; no identity ever goes to it again.
+  /// False (nothing done) when `id` is no object or not absent.
+  bool withdraw(int id, double t, std::size_t scan_index);
 
   const ObjectOptions& options() const { return options_; }
   /// Every object ever reported, by id (objects()[id - 1]); a present object's shape is its
@@ -129,6 +136,8 @@ class ObjectTracker {
   std::size_t events_before_update_ = 0;
   std::vector<KeepOut> keep_out_;
   bool nearKeepOut(const ShapeEstimate& shape) const;
+  bool seenOccupied(const ScanView& view, const ShapeEstimate& s) const;
+
 };
 
 }  // namespace dynamap

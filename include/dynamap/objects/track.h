@@ -27,6 +27,9 @@ struct Tentative {
   double last_size = 0;  ///< [m] size at the last filter pass
   double first_t = 0;    ///< [s] when the current run of passes began
   int exclude_id = 0;    ///< identity must not pick this object (0: none): a stale place re-found
+  /// A person stood on it (KeepOut): from then on only scans that see it occupied count, so
+  /// the cells their legs left, not yet seen empty, are never an object.
+  bool kept_out = false;
 };
 
 /// Reported: it is object `id` of the table. Its shape is that object's row's

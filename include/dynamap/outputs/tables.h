@@ -71,7 +71,11 @@ class PoseLog {
   StreamedFile file_;
 };
 
-/// Writers of the object table, exact and fixed-format (byte-identical between runs).
+/// Whether object `id` is in the final table: not withdrawn (a person standing, who walked off).
+bool inTable(const ObjectTracker& tracker, int id);
+/// Writers of the object table, exact and fixed-format (byte-identical between runs): the
+/// table's objects and their events; a withdrawn object is in neither (only in tracks.csv,
+/// which was streamed while it was reported).
 void writeObjectsCsv(std::ostream& out, const ObjectTracker& tracker);
 void writeEventsCsv(std::ostream& out, const ObjectTracker& tracker);
 

@@ -47,10 +47,9 @@ struct PeopleOptions {
   double reacquire_s = 0.2;
   double reacquire_travel = 0.25;  ///< [m] ...and gone this far; [0, confirm_travel]
   int empty_scans = 3;            ///< a lost person's place seen empty this many scans in a row ends them; [1, 1000]
-  /// [m] no object is confirmed this near a person; 0 = off (the default: with confirm_s = 1 a
-  /// gliding cylinder is confirmed as a person for a while, and keeping objects out there cost
-  /// the arena 11 of its 20 object moves); [0, 5]
-  double exclusion_radius = 0.0;
+  /// [m] no object is confirmed this near a person (confirmed, or held standing): their legs
+  /// are no object; one put down beside them is judged once they have left. 0 = off; [0, 5]
+  double exclusion_radius = 0.5;
 
   /// Every key of [people], declared once (config.ini, default.ini and the README follow it).
   static const OptionTable<PeopleOptions>& table();

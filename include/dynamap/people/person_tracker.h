@@ -9,7 +9,9 @@
 // Life of a track: Tentative (new; must keep moving for confirm_s and go confirm_travel from
 // where it appeared; confirm_static_s when it appeared next to an object, or next to an object's
 // track that broke off: a moved object glides out of its place for a few seconds and then
-// stays, a person walks on) -> Confirmed (a person, with an id) -> Coasting (not detected this
+// stays, a person walks on; but confirm_s again once it was seen as a pair of legs more often
+// than not, over kLegsSeen detections or more, and the pair itself went confirm_travel: a moved
+// object is one cluster) -> Confirmed (a person, with an id) -> Coasting (not detected this
 // scan) -> Lost -> Ended. A coasting person whose place the scan shows occupied (a beam ends
 // within hold_radius) is held: a person who stopped keeps their id, however long, until they
 // walk on (a detection again) or their place is seen empty for empty_scans scans; out of view
@@ -55,6 +57,13 @@ struct TentativeState {
   double from_x = 0, from_y = 0;  ///< where it was then
   bool near_static = false;       ///< appeared near an object (or took over from one): confirm_static_s
   double born_t = 0;              ///< first detected
+  double born_x = 0, born_y = 0;  ///< ...there
+  int detections = 0;             ///< detections so far
+  int leg_pairs = 0;              ///< ...of which were a pair of legs
+  /// Where it was seen as a pair of legs first since it has been moving, and last: a pair that
+  /// moves, not a track jumping between two legs (or two small objects) seen one at a time.
+  bool pair_seen = false;
+  double pair_from_x = 0, pair_from_y = 0, pair_x = 0, pair_y = 0;
 };
 struct ConfirmedState {};
 struct CoastingState {
@@ -130,6 +139,17 @@ class PersonTracker {
   std::vector<PersonTrail> trails() const;
   static constexpr double kTrailStep = 0.1;              // [m]
   static constexpr std::size_t kMaxTrailPoints = 200000;
+  /// A track confirmed in the last update that stood next to an object when it appeared
+  /// (near_static): where it stood (when it appeared, and before it last set off) and since
+  /// when. What was reported as an object there may have been this person.
+  struct WalkOff {
+    double born_x, born_y, from_x, from_y, since_t;
+  };
+  const std::vector<WalkOff>& walkOffs() const { return walk_offs_; }
+  /// Where a pair of legs stands that is no person yet: tentative tracks detected in the last
+  /// update, seen as two legs more often than not, over at least kLegsSeen detections.
+  std::vector<std::pair<double, double>> standingLegs() const;
+  static constexpr int kLegsSeen = 3;
   /// Where people are now (confirmed or coasting): no object may be reported there.
   std::vector<std::pair<double, double>> personPositions() const;
   const PeopleOptions& options() const { return options_; }
@@ -158,6 +178,7 @@ class PersonTracker {
     double x, y, t;
   };
   std::vector<StaticEnd> static_ends_;
+  std::vector<WalkOff> walk_offs_;  // of the last update
   std::vector<PersonSummary> ended_;
   std::vector<PersonTrail> trails_;  // by id: trails_[id - 1]
   std::size_t trail_points_ = 0;

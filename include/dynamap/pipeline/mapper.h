@@ -17,6 +17,7 @@
 #include "dynamap/mapping/dynamic_grid_map.h"
 #include "dynamap/objects/object_tracker.h"
 #include "dynamap/people/person_tracker.h"
+#include "dynamap/pipeline/people_objects.h"
 #include "dynamap/pipeline/robot_path.h"
 
 namespace dynamap {
@@ -107,6 +108,7 @@ class Mapper {
   DynamicGridMap map_;
   ObjectTracker tracker_;
   PersonTracker people_;
+  PeopleObjects people_objects_;
   RobotPath path_;
   RangeData range_;  // this scan's geometry; its buffers kept from scan to scan
   ScanHits hits_;     // this scan's hit points for the people detector; likewise
