@@ -119,9 +119,10 @@ void PeopleObjects::judgeGone(ObjectTracker& objects, const Sighting& g, std::si
 
 PeopleObjects::CellKey PeopleObjects::placeCell(double x, double y) const {
   const double side = options_.leg_pair_distance;
-  const auto ix = static_cast<std::int64_t>(std::floor(x / side));
-  const auto iy = static_cast<std::int64_t>(std::floor(y / side));
-  return (ix << 32) ^ (iy & 0xffffffff);
+  // Cells of a map at most max_map_size_m wide: their indices fit in 32 bits each.
+  const auto ix = static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(x / side)));
+  const auto iy = static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(y / side)));
+  return static_cast<CellKey>((static_cast<std::uint64_t>(ix) << 32) | iy);
 }
 
 bool PeopleObjects::nearPersonPlace(double x, double y) const {
