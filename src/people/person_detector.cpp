@@ -78,20 +78,31 @@ std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& 
 
 namespace {
 
+// The largest distance between two of the points, or any value above `cap` once it is known to
+// exceed it (such a cluster is no person: its exact width does not matter).
+double spread(const std::vector<HitPoint2>& pts, std::size_t begin, std::size_t end, double cap) {
+  double widest = 0;
+  for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t j = begin; j < i; ++j) {
+      widest = std::max(widest, std::hypot(pts[i].x - pts[j].x, pts[i].y - pts[j].y));
+    }
+    if (widest > cap) return widest;
+  }
+  return widest;
+}
+
 // The points' centroid pushed away from the sensor: the beams see the near half of a round body,
 // whose points lie on average pi/4 of its radius in front of its centre.
 PointCluster summarise(const std::vector<HitPoint2>& pts, std::size_t begin, std::size_t end,
-                       double sx, double sy) {
+                       double sx, double sy, double max_width) {
   PointCluster c;
   c.points = end - begin;
   double mx = 0, my = 0;
   for (std::size_t i = begin; i < end; ++i) {
     mx += pts[i].x;
     my += pts[i].y;
-    for (std::size_t j = begin; j < i; ++j) {
-      c.width = std::max(c.width, std::hypot(pts[i].x - pts[j].x, pts[i].y - pts[j].y));
-    }
   }
+  c.width = spread(pts, begin, end, max_width);
   // Each edge lies between the last beam that hit and the next one: half a beam gap beyond.
   if (c.points > 1) c.width += c.width / static_cast<double>(c.points - 1);
   mx /= static_cast<double>(c.points);
@@ -118,7 +129,7 @@ std::vector<PointCluster> clusterPoints(const std::vector<HitPoint2>& pts, doubl
     }
     if (!split) continue;
     if (i - begin >= static_cast<std::size_t>(o.min_points)) {
-      out.push_back(summarise(pts, begin, i, sx, sy));
+      out.push_back(summarise(pts, begin, i, sx, sy, o.max_person_width));
     }
     begin = i;
   }

@@ -42,6 +42,19 @@ TEST(ClusterPoints, SplitsOnDistanceAndOnBeamGapsAndFindsTheCentre) {
   EXPECT_NEAR(clusters[0].width, 0.4, 0.03);
 }
 
+TEST(ClusterPoints, AClusterWiderThanAPersonIsOverMaxPersonWidthAndNoPerson) {
+  // 4000 points 1 mm apart on a line 1 m ahead (a wall S does not know yet): one cluster 4 m
+  // wide, whose width is only known to be over max_person_width (0.8 m), and no detection.
+  std::vector<HitPoint2> line;
+  for (std::size_t i = 0; i < 4000; ++i) line.push_back({1.0, -2.0 + 0.001 * i, i});
+  const PeopleOptions o;
+  const auto clusters = clusterPoints(line, 0, 0, o);
+  ASSERT_EQ(clusters.size(), 1u);
+  EXPECT_EQ(clusters[0].points, 4000u);
+  EXPECT_GT(clusters[0].width, o.max_person_width);
+  EXPECT_TRUE(pairLegs(clusters, o).empty());
+}
+
 TEST(ClusterPoints, FewerThanMinPointsIsNoCluster) {
   PeopleOptions o;
   o.min_points = 3;

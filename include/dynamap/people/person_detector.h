@@ -55,7 +55,9 @@ std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& 
 /// (`beam_step` rad): far away, one body's points lie wider apart than near.
 struct PointCluster {
   double cx = 0, cy = 0;  ///< [m] centre of the round body the points lie on (see clusterCentre)
-  double width = 0;       ///< [m] widest distance between two of its points
+  /// [m] widest distance between two of its points (and half a beam gap past each end); over
+  /// max_person_width, only known to be over it (such a cluster is no person)
+  double width = 0;
   std::size_t points = 0;
 };
 /// Splits `points` (in beam order) into clusters; clusters of fewer than min_points are dropped.
