@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_set>
+#include <limits>
 
 #include "dynamap/mapping/dynamic_grid_map.h"
 
@@ -67,7 +67,8 @@ std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& 
     if (cx < 0 || cy < 0 || cx >= static_cast<int>(map.getSizeX()) ||
         cy >= static_cast<int>(map.getSizeY()))
       continue;
-    bool free = true;
+    // The hit's own cell first: on a wall (most hits) it is not free, and that settles it.
+    bool free = map.isStaticFree(cx, cy);
     for (int dy = -guard; dy <= guard && free; ++dy) {
       for (int dx = -guard; dx <= guard && free; ++dx) free = map.isStaticFree(cx + dx, cy + dy);
     }
@@ -187,6 +188,49 @@ std::int64_t cellKey(int x, int y) {
                                    static_cast<std::uint32_t>(y));
 }
 
+// A set of cell keys for one scan's searches: open addressing in a table that doubles when half
+// full, so an insert allocates only when the table grows (a node-based set allocates per cell,
+// and a wall met near a detection is hundreds of cells).
+class CellSet {
+ public:
+  CellSet() : table_(kInitial, kEmpty) {}
+  bool count(std::int64_t key) const {
+    for (std::size_t i = slot(key);; i = (i + 1) & (table_.size() - 1)) {
+      if (table_[i] == key) return true;
+      if (table_[i] == kEmpty) return false;
+    }
+  }
+  void insert(std::int64_t key) {
+    if (2 * (size_ + 1) > table_.size()) grow();
+    place(key);
+  }
+
+ private:
+  // No cell of a grid has the most negative x index: never a key.
+  static constexpr std::int64_t kEmpty = std::numeric_limits<std::int64_t>::min();
+  static constexpr std::size_t kInitial = 1024;
+  std::size_t slot(std::int64_t key) const {
+    const auto h = static_cast<std::uint64_t>(key) * 0x9E3779B97F4A7C15ull;
+    return static_cast<std::size_t>(h >> 32) & (table_.size() - 1);
+  }
+  void place(std::int64_t key) {
+    std::size_t i = slot(key);
+    while (table_[i] != kEmpty && table_[i] != key) i = (i + 1) & (table_.size() - 1);
+    if (table_[i] == kEmpty) ++size_;
+    table_[i] = key;
+  }
+  void grow() {
+    std::vector<std::int64_t> previous(2 * table_.size(), kEmpty);
+    previous.swap(table_);  // table_ is now twice as large and empty
+    size_ = 0;
+    for (const std::int64_t k : previous) {
+      if (k != kEmpty) place(k);
+    }
+  }
+  std::vector<std::int64_t> table_;
+  std::size_t size_ = 0;
+};
+
 // The cells one search of smallStaticBlob met, marked in a window around where it started (the
 // search never leaves it: it stops once the body is `extent` cells wide), kept between searches
 // so that a scan's searches allocate nothing after the first.
@@ -229,7 +273,7 @@ class BlobMarks {
 // so a wall costs a few dozen cells, and adds the cells it met to `large`: a search from another
 // cell of the same wall stops as soon as it meets one of them.
 bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
-                     std::unordered_set<std::int64_t>& large, BlobMarks& seen) {
+                     CellSet& large, BlobMarks& seen) {
   seen.start(cx, cy);
   seen.insert(cx, cy);
   std::vector<std::pair<int, int>>& todo = seen.todo();
@@ -256,7 +300,7 @@ bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
 }
 
 bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptions& o,
-                std::unordered_set<std::int64_t>& large, BlobMarks& seen) {
+                CellSet& large, BlobMarks& seen) {
   const double res = map.getResolution();
   const int n = static_cast<int>(std::ceil(o.static_clearance / res));
   const int extent = objectExtentCells(map, o);
@@ -282,7 +326,7 @@ std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanH
   const std::vector<HitPoint2> free = freeSpaceHits(map, hits, o.wall_guard_cells);
   std::vector<PersonDetection> out =
       pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
-  std::unordered_set<std::int64_t> large;  // cells of S's walls met so far, for every detection
+  CellSet large;  // cells of S's walls met so far, for every detection
   BlobMarks seen(objectExtentCells(map, o));
   for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o, large, seen);
   return out;
