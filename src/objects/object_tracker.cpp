@@ -414,14 +414,36 @@ void ObjectTracker::checkDrift(double t, std::size_t scan_index) {
   }
 }
 
+bool ObjectTracker::onObjectCell(const DynamicGridMap& map, double x, double y) const {
+  const double tx = (x - map.getXMin()) / map.getResolution();
+  const double ty = (y - map.getYMin()) / map.getResolution();
+  constexpr double kEdge = 1e-6;  // [cells] far above rounding, far below a cell
+  const auto onEdge = [](double t) {
+    const double f = t - std::floor(t);
+    return f < kEdge || f > 1 - kEdge;
+  };
+  if (!std::isfinite(tx) || !std::isfinite(ty) || onEdge(tx) || onEdge(ty)) return true;
+  const int cx = map.x2idx(x), cy = map.y2idx(y);
+  if (cx < 0 || cy < 0 || cx >= static_cast<int>(map.getSizeX()) ||
+      cy >= static_cast<int>(map.getSizeY()))
+    return false;
+  return owner_.count(cellKey(cx + origin_x_, cy + origin_y_)) != 0;
+}
+
 void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& view) {
   if (view.empty() || owner_.empty()) return;
   const double bin = 0.01;  // [m] one point kept per bin: the latest
   std::set<int> fed;
   const std::size_t n = view.ranges.size();
+  const bool cached = view.cosines.size() == n && view.sines.size() == n;
   for (std::size_t i = 0; i < n; ++i) {
     const double r = view.ranges[i];
     if (r <= 0.0 || r >= view.max_range) continue;
+    // Most beams end on no object cell: the cached direction tells, without a sine and cosine
+    // each. It can differ from the exact one only in the last bits, which never changes the
+    // cell unless the point lies on a cell's edge: there, and on object cells, it is exact.
+    if (cached && !onObjectCell(map, view.x + r * view.cosines[i], view.y + r * view.sines[i]))
+      continue;
     const double a = view.phi + view.dir * (view.first + view.step * static_cast<double>(i));
     const double x = view.x + r * std::cos(a), y = view.y + r * std::sin(a);
     const int cx = map.x2idx(x), cy = map.y2idx(y);

@@ -30,6 +30,15 @@ ScanView makeScanView(const RangeData& rd, const mrpt::poses::CPose2D& robot) {
   v.dir = rd.dir;
   v.max_range = rd.insertion_range;
   v.ranges.resize(n);
+  if (rd.cos_angle.size() == n && rd.sin_angle.size() == n) {
+    const double c = std::cos(v.phi), s = std::sin(v.phi);
+    v.cosines.resize(n);
+    v.sines.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      v.cosines[i] = c * rd.cos_angle[i] - s * rd.sin_angle[i];
+      v.sines[i] = s * rd.cos_angle[i] + c * rd.sin_angle[i];
+    }
+  }
   const float cut = static_cast<float>(rd.insertion_range);
   for (std::size_t i = 0; i < n; ++i) {
     const bool echo = rd.kinds[i] == BeamKind::Hit || rd.kinds[i] == BeamKind::Beyond;

@@ -43,6 +43,21 @@ TEST(MakeScanView, AnUpsideDownMountTurnsTheBeamsTheOtherWay) {
       1.0);
 }
 
+TEST(MakeScanView, EachBeamsDirectionInTheMapFrameIsCachedAsItsCosineAndSine) {
+  std::vector<float> ranges(181, 3.0f);
+  auto scan = test::makeScan(ranges, M_PI);
+  scan->sensorPose = mrpt::poses::CPose3D(0.2, 0.1, 0.0, 0.3, 0.0, 0.0);
+  const ScanView v = makeScanView(makeRangeData(*scan, 10.0, 0.05 * M_PI / 180.0),
+                                  mrpt::poses::CPose2D(-4.0, 7.0, 2.5));
+  ASSERT_EQ(v.cosines.size(), 181u);
+  ASSERT_EQ(v.sines.size(), 181u);
+  for (std::size_t i = 0; i < 181; ++i) {
+    const double a = v.phi + v.dir * (v.first + v.step * static_cast<double>(i));
+    EXPECT_NEAR(v.cosines[i], std::cos(a), 1e-12) << i;
+    EXPECT_NEAR(v.sines[i], std::sin(a), 1e-12) << i;
+  }
+}
+
 TEST(MakeScanView, AnEmptyScanGivesAnEmptyView) {
   const auto scan = test::makeScan({}, M_PI);
   EXPECT_TRUE(makeScanView(makeRangeData(*scan, 10.0, 0.05 * M_PI / 180.0), mrpt::poses::CPose2D())

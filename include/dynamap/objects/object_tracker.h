@@ -74,6 +74,9 @@ class ObjectTracker {
   /// every track that gained or lost cells.
   void recluster(const DynamicGridMap& map, const std::vector<CellKey>& dirty);
   void collectPoints(const DynamicGridMap& map, const ScanView& view);
+  /// Whether (x, y), up to rounding, may lie on a cell a track owns: false only when it surely
+  /// does not (off the grid, or inside a cell no track owns, clear of its edges).
+  bool onObjectCell(const DynamicGridMap& map, double x, double y) const;
   void dropLostTracks(double t, std::size_t scan_index);
   void checkStalePlaces(const ScanView& view, double t, std::size_t scan_index);
   void confirmTentatives(const ScanView& view, double t, std::size_t scan_index);

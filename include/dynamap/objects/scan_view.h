@@ -20,6 +20,9 @@ struct ScanView {
   double dir = 1;
   double max_range = 0;
   std::vector<float> ranges;  ///< < 0: no echo
+  /// cos and sin of each beam's direction in the map frame (from RangeData's cached ones: equal
+  /// to cos/sin of phi + dir * (first + i * step) up to rounding); empty: not worked out.
+  std::vector<double> cosines, sines;
   bool empty() const { return ranges.empty(); }
 };
 /// The view of the scan `rd` taken with the robot at `robot`: the same beam directions the grid
