@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -472,6 +473,31 @@ TEST(CarmenNumbers, FromCharsAsStrtodDidSubnormalsApart) {
     ASSERT_EQ(parseCarmenNumber(buf, v), CarmenNumber::kOk) << buf;
     ASSERT_EQ(v, std::strtod(buf, nullptr)) << buf;
   }
+}
+
+TEST(CarmenNumbers, PlainDecimalsUpToFifteenDigitsAreStrtodsDoubleBitForBit) {
+  // The short path for plain decimals: 1 to 17 digits (over 15 take the general one), the point
+  // anywhere (also first or last), a sign or none, leading zeros, -0.
+  std::mt19937 rng(11);
+  for (int i = 0; i < 200000; ++i) {
+    const int n = 1 + static_cast<int>(rng() % 17);
+    std::string s = rng() % 2 ? "-" : "";
+    const int point = static_cast<int>(rng() % static_cast<unsigned>(n + 2)) - 1;  // -1: none
+    for (int d = 0; d < n; ++d) {
+      if (d == point) s += '.';
+      s += static_cast<char>('0' + (d == 0 && rng() % 4 ? 0 : rng() % 10));
+    }
+    if (point == n) s += '.';
+    double v = 0;
+    ASSERT_EQ(parseCarmenNumber(s, v), CarmenNumber::kOk) << s;
+    const double expected = std::strtod(s.c_str(), nullptr);
+    ASSERT_EQ(std::memcmp(&v, &expected, sizeof v), 0) << s << " " << v << " " << expected;
+  }
+  double v = 0;
+  EXPECT_EQ(parseCarmenNumber("-", v), CarmenNumber::kNotNumber);
+  EXPECT_EQ(parseCarmenNumber(".", v), CarmenNumber::kNotNumber);
+  EXPECT_EQ(parseCarmenNumber("1.2.3", v), CarmenNumber::kNotNumber);
+  EXPECT_EQ(parseCarmenNumber("--1", v), CarmenNumber::kNotNumber);
 }
 
 TEST_F(CarmenTest, ALineWithASubnormalNumberIsSkippedAndCounted) {
