@@ -239,12 +239,11 @@ void ObjectTracker::dropLostTracks(double t, std::size_t scan_index) {
 }
 
 void ObjectTracker::checkStalePlaces(const ScanView& view, double t, std::size_t scan_index) {
-  const double margin = std::max(0.05, 2 * resolution_);
   for (auto& kv : tracks_) {
     Track& tr = kv.second;
     Stale* st = tr.stale();
     if (!st) continue;
-    const PlaceView pv = viewOf(view, st->shape.cx, st->shape.cy, 0.5 * st->shape.size, margin);
+    const PlaceView pv = viewOfShape(view, st->shape);
     st->seen_occupied = pv == PlaceView::SeenOccupied ? st->seen_occupied + 1 : 0;
     // Seen occupied longer than D needs to fade a vacated cell: the object never left.
     if (st->seen_occupied <= options_.confirm_scans + 4) continue;
@@ -304,7 +303,7 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
       continue;
     }
     pending_.insert(key);
-    if (tent->kept_out && !seenOccupied(view, tent->shape)) continue;
+    if (tent->kept_out && viewOfShape(view, tent->shape) != PlaceView::SeenOccupied) continue;
     if (tent->passes == 0) tent->first_t = t;
     // Count only scans that left its size as it was: an object is judged once its size has
     // settled (it is all there, and the robot has seen enough of it to tell its size).
@@ -330,7 +329,6 @@ void ObjectTracker::identityCandidates(const ShapeEstimate& s, int exclude_id,
                                        const ScanView& view, double t,
                                        std::vector<IdentityCandidate>& cands,
                                        std::vector<int>& ids) const {
-  const double margin = std::max(0.05, 2 * resolution_);
   for (const TrackedObject& o : objects_) {
     if (o.id == exclude_id || o.state == ObjectState::Withdrawn) continue;
     const bool absent = o.state == ObjectState::Absent;
@@ -338,7 +336,7 @@ void ObjectTracker::identityCandidates(const ShapeEstimate& s, int exclude_id,
     // A present object right here would have been followed, not re-found.
     if (!absent && dist <= options_.reappear_distance) continue;
     PlaceView pv = PlaceView::NotInView;
-    if (!absent) pv = viewOf(view, o.shape.cx, o.shape.cy, 0.5 * o.shape.size, margin);
+    if (!absent) pv = viewOfShape(view, o.shape);
     // Seen in place a moment ago and not seen gone since: it did not cross the room unseen.
     if (!absent && pv != PlaceView::SeenFree && t - o.last_seen_t < options_.min_unseen_s) {
       continue;
@@ -471,11 +469,9 @@ void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& vie
 
 void ObjectTracker::updateLastSeen(const ScanView& view, double t) {
   if (view.empty()) return;
-  const double margin = std::max(0.05, 2 * resolution_);
   for (TrackedObject& o : objects_) {
     if (o.state != ObjectState::Present) continue;
-    if (viewOf(view, o.shape.cx, o.shape.cy, 0.5 * o.shape.size, margin) ==
-        PlaceView::SeenOccupied) {
+    if (viewOfShape(view, o.shape) == PlaceView::SeenOccupied) {
       o.last_seen_t = t;
     }
   }
@@ -490,9 +486,9 @@ bool ObjectTracker::withdraw(int id, double t, std::size_t scan_index) {
   return true;
 }
 
-bool ObjectTracker::seenOccupied(const ScanView& view, const ShapeEstimate& s) const {
-  const double margin = std::max(0.05, 2 * resolution_);
-  return viewOf(view, s.cx, s.cy, 0.5 * s.size, margin) == PlaceView::SeenOccupied;
+PlaceView ObjectTracker::viewOfShape(const ScanView& view, const ShapeEstimate& s) const {
+  const double margin = std::max(0.05, 2 * resolution_);  // range noise and the cell size
+  return viewOf(view, s.cx, s.cy, 0.5 * s.size, margin);
 }
 
 bool ObjectTracker::nearKeepOut(const ShapeEstimate& shape) const {

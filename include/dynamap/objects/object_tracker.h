@@ -139,8 +139,8 @@ class ObjectTracker {
   std::size_t events_before_update_ = 0;
   std::vector<KeepOut> keep_out_;
   bool nearKeepOut(const ShapeEstimate& shape) const;
-  bool seenOccupied(const ScanView& view, const ShapeEstimate& s) const;
-
+  /// What the scan shows of the disc a shape fills.
+  PlaceView viewOfShape(const ScanView& view, const ShapeEstimate& s) const;
 };
 
 }  // namespace dynamap
