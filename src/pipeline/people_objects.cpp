@@ -117,12 +117,10 @@ void PeopleObjects::judgeGone(ObjectTracker& objects, const Sighting& g, std::si
   }
 }
 
-PeopleObjects::CellKey PeopleObjects::placeCell(double x, double y) const {
+CellKey PeopleObjects::placeCell(double x, double y) const {
+  // Cells of a map at most max_map_size_m wide: their indices fit in an int.
   const double side = options_.leg_pair_distance;
-  // Cells of a map at most max_map_size_m wide: their indices fit in 32 bits each.
-  const auto ix = static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(x / side)));
-  const auto iy = static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(y / side)));
-  return static_cast<CellKey>((static_cast<std::uint64_t>(ix) << 32) | iy);
+  return cellKey(static_cast<int>(std::floor(x / side)), static_cast<int>(std::floor(y / side)));
 }
 
 bool PeopleObjects::nearPersonPlace(double x, double y) const {

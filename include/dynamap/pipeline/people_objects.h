@@ -25,7 +25,6 @@
 // and the objects that went in the last kWalkOffWindowS: it does not grow with the run's length.
 
 #include <cstddef>
-#include <cstdint>
 #include <deque>
 #include <unordered_map>
 #include <utility>
@@ -84,7 +83,6 @@ class PeopleObjects {
   std::unordered_map<int, Record> records_;  // by object id
   /// Where withdrawn objects stood, by cells leg_pair_distance wide (at most kPlacesPerCell
   /// each: a checked place costs the same however long the run).
-  using CellKey = std::int64_t;
   std::unordered_map<CellKey, std::vector<std::pair<double, double>>> person_places_;
   static constexpr std::size_t kPlacesPerCell = 8;
   CellKey placeCell(double x, double y) const;
