@@ -162,8 +162,7 @@ void PersonTracker::advanceTentative(PersonTrack& tr, double t) {
   // Two legs, most of the time, and the pair itself walking: a person walking off from where
   // they stood, not an object moved (one cluster). (Legs seen one at a time, or two small
   // objects side by side, make a track that stands jump about within the pair's span.)
-  const bool legs = st.detections >= kLegsSeen && 2 * st.leg_pairs > st.detections &&
-                    st.pair_seen &&
+  const bool legs = st.mostlyLegs() && st.pair_seen &&
                     std::hypot(st.pair_x - st.pair_from_x, st.pair_y - st.pair_from_y) >=
                         options_.confirm_travel;
   const double needed = st.near_static && !legs ? options_.confirm_static_s : options_.confirm_s;
@@ -395,8 +394,7 @@ std::vector<std::pair<double, double>> PersonTracker::standingLegs() const {
   std::vector<std::pair<double, double>> out;
   for (const PersonTrack& tr : tracks_) {
     const auto* tent = std::get_if<TentativeState>(&tr.state);
-    if (tent && tr.last_detected_t == last_t_ && tent->detections >= kLegsSeen &&
-        2 * tent->leg_pairs > tent->detections)
+    if (tent && tr.last_detected_t == last_t_ && tent->mostlyLegs())
       out.emplace_back(tr.filter.x(), tr.filter.y());
   }
   return out;

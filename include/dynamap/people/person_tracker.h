@@ -9,9 +9,9 @@
 // Life of a track: Tentative (new; must keep moving for confirm_s and go confirm_travel from
 // where it appeared; confirm_static_s when it appeared next to an object, or next to an object's
 // track that broke off: a moved object glides out of its place for a few seconds and then
-// stays, a person walks on; but confirm_s again once it was seen as a pair of legs more often
-// than not, over kLegsSeen detections or more, and the pair itself went confirm_travel: a moved
-// object is one cluster) -> Confirmed (a person, with an id) -> Coasting (not detected this
+// stays, a person walks on; but confirm_s again once it was mostly seen as a pair of legs
+// (TentativeState::mostlyLegs) and the pair itself went confirm_travel: a moved object is one
+// cluster) -> Confirmed (a person, with an id) -> Coasting (not detected this
 // scan) -> Lost -> Ended. A coasting person whose place the scan shows occupied (a beam ends
 // within hold_radius) is held: a person who stopped keeps their id, however long, until they
 // walk on (a detection again) or their place is seen empty for empty_scans scans; out of view
@@ -64,6 +64,9 @@ struct TentativeState {
   /// moves, not a track jumping between two legs (or two small objects) seen one at a time.
   bool pair_seen = false;
   double pair_from_x = 0, pair_from_y = 0, pair_x = 0, pair_y = 0;
+  /// Seen as a pair of legs more often than not, over kLegsSeen detections or more.
+  bool mostlyLegs() const { return detections >= kLegsSeen && 2 * leg_pairs > detections; }
+  static constexpr int kLegsSeen = 3;
 };
 struct ConfirmedState {};
 struct CoastingState {
@@ -147,9 +150,8 @@ class PersonTracker {
   };
   const std::vector<WalkOff>& walkOffs() const { return walk_offs_; }
   /// Where a pair of legs stands that is no person yet: tentative tracks detected in the last
-  /// update, seen as two legs more often than not, over at least kLegsSeen detections.
+  /// update, seen mostly as two legs (TentativeState::mostlyLegs).
   std::vector<std::pair<double, double>> standingLegs() const;
-  static constexpr int kLegsSeen = 3;
   /// Where people are now (confirmed or coasting): no object may be reported there.
   std::vector<std::pair<double, double>> personPositions() const;
   const PeopleOptions& options() const { return options_; }
