@@ -399,14 +399,13 @@ void printTable(std::ostream& o, const Evaluation& ev) {
     << (pc >= 0 ? std::string("   paper (") + kPaperNames[pc] + ")" : "") << "\n";
   auto line = [&](const char* what, std::size_t ours, const int* paper) {
     o << "  " << std::left << std::setw(30) << what << std::right << std::setw(6) << ours;
-    if (pc >= 0) o << std::setw(10) << paper[pc];
+    if (pc >= 0 && paper != nullptr) o << std::setw(10) << paper[pc];
     o << "\n";
   };
   line("correctly detected", ob.correct, kPaperDetected);
   line("not detected", ob.not_detected, kPaperNotDetected);
   line("static detected as objects", ob.static_as_objects, kPaperStatic);
-  o << "  " << std::left << std::setw(30) << "people detected as objects" << std::right
-    << std::setw(6) << ob.people_as_objects << "\n";
+  line("people detected as objects", ob.people_as_objects, nullptr);  // not in the paper
   line("size estimation errors", ob.size_errors, kPaperSize);
   o << "  latency median / max            " << num(ob.latency.median_s, 2, "n/a") << " / "
     << num(ob.latency.max_s, 2, "n/a") << " s  (" << num(ob.latency.median_scans, 1, "n/a") << " / "
