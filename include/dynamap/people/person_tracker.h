@@ -9,7 +9,7 @@
 // Life of a track: Tentative (new; must keep moving for confirm_s and go confirm_travel from
 // where it appeared; confirm_static_s when it appeared next to an object, or next to an object's
 // track that broke off: a moved object glides out of its place for a few seconds and then
-// stays, a person walks on; but confirm_s again once it was mostly seen as a pair of legs
+// stays, a person walks on; but confirm_s again once it was often seen as a pair of legs
 // (TentativeState::mostlyLegs) and the pair itself went confirm_travel: a moved object is one
 // cluster) -> Confirmed (a person, with an id) -> Coasting (not detected this
 // scan) -> Lost -> Ended. A coasting person whose place the scan shows occupied (a beam ends
@@ -64,8 +64,11 @@ struct TentativeState {
   /// moves, not a track jumping between two legs (or two small objects) seen one at a time.
   bool pair_seen = false;
   double pair_from_x = 0, pair_from_y = 0, pair_x = 0, pair_y = 0;
-  /// Seen as a pair of legs more often than not, over kLegsSeen detections or more.
-  bool mostlyLegs() const { return detections >= kLegsSeen && 2 * leg_pairs > detections; }
+  /// Seen as a pair of legs in more than a third of its detections, over kLegsSeen or more: a
+  /// person walking across the beams hides one leg behind the other about half the time, and
+  /// one walking along a wall is seen from a grazing angle, so "more often than not" missed
+  /// real walkers; a moved object is one cluster and is never a pair on its own.
+  bool mostlyLegs() const { return detections >= kLegsSeen && 3 * leg_pairs > detections; }
   static constexpr int kLegsSeen = 3;
 };
 struct ConfirmedState {};
