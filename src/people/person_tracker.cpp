@@ -333,11 +333,22 @@ void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanH
                                     }),
                      static_ends_.end());
   for (std::size_t j = 0; j < dets.size(); ++j) {
-    if (!used[j]) startTrack(dets[j], t);
+    if (!used[j] && !legOfPerson(dets[j], t)) startTrack(dets[j], t);
   }
   for (PersonTrack& tr : tracks_) {
     if (isReported(tr)) record(tr, t);
   }
+}
+
+bool PersonTracker::legOfPerson(const PersonDetection& d, double t) const {
+  if (d.legs != 1) return false;
+  const double reach = options_.leg_pair_distance / 2;
+  for (const PersonTrack& tr : tracks_) {
+    if (tr.kind() == PersonState::Confirmed && tr.last_detected_t == t &&
+        std::hypot(tr.filter.x() - d.x, tr.filter.y() - d.y) < reach)
+      return true;
+  }
+  return false;
 }
 
 bool PersonTracker::nearStaticTrack(double x, double y, double t) const {

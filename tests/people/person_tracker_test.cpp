@@ -84,6 +84,44 @@ TEST(PersonTracker, TwoLegsWalkingOffFromAnObjectsPlaceAreAPersonSoon) {
   EXPECT_GE(firstReported(walker(0), 10), 8.0);
 }
 
+TEST(PersonTracker, LegsSeenAsAPairOneScanInTwoAreLegs) {
+  // A walker seen across the beams: one leg hides the other every other scan. Walking off from
+  // an object's place, it is a person after confirm_s, not confirm_static_s.
+  auto gait = [](double t) {
+    const int k = static_cast<int>(std::lround(t / 0.2));
+    PersonDetection d{t < 2 ? 0.0 : t - 2, 0, k % 2 == 1 ? 2 : 1};  // a pair in every second scan, never more
+    d.near_static = t < 3;
+    return std::vector<PersonDetection>{d};
+  };
+  const double t = firstReported(gait, 6);
+  EXPECT_GE(t, 2.6);
+  EXPECT_LE(t, 3.2);
+  TentativeState st;
+  st.detections = 6;
+  st.leg_pairs = 3;
+  EXPECT_TRUE(st.mostlyLegs());
+  st.leg_pairs = 2;  // a third is not more than a third
+  EXPECT_FALSE(st.mostlyLegs());
+}
+
+TEST(PersonTracker, ALegLeftOverBesideAPersonIsNoNewTrack) {
+  // A person walks along x at 1 m/s, seen as a pair. From 2 s a single leg is also detected
+  // 0.3 m beside them (the pairing left it over): no second track. A leg 1 m away is someone.
+  for (const double off : {0.3, 1.0}) {
+    PersonTracker tracker;
+    const ScanHits nothing;
+    std::size_t most = 0;
+    for (int k = 0; k <= 20; ++k) {
+      const double t = 0.2 * k;
+      std::vector<PersonDetection> dets{{t, 0, 2}};
+      if (t >= 2) dets.push_back({t, off, 1});
+      tracker.update(dets, nothing, t);
+      most = std::max(most, tracker.tracks().size());
+    }
+    EXPECT_EQ(most, off < 0.4 ? 1u : 2u) << "leg " << off << " m beside";
+  }
+}
+
 // --- runs over simulated worlds ----------------------------------------------------------------
 
 // A 20 m wide hall, 2 * half_height tall; the robot stands at `robot` ("x y") looking along +x

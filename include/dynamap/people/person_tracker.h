@@ -4,7 +4,8 @@
 // Each track is a constant-velocity Kalman filter (state x y vx vy). Per scan every track is
 // predicted to the scan's time, detections farther than `gate` from a prediction are ruled out,
 // and the remaining pairs are assigned globally at minimum total distance (the Hungarian
-// method); unassigned detections start tentative tracks.
+// method); unassigned detections start tentative tracks (but a leg alone beside a person
+// detected this scan is one of theirs: legOfPerson).
 //
 // Life of a track: Tentative (new; must keep moving for confirm_s and go confirm_travel from
 // where it appeared; confirm_static_s when it appeared next to an object, or next to an object's
@@ -179,6 +180,10 @@ class PersonTracker {
   /// whose track broke off must not restart as a person. (x, y, t) of where such tracks ended.
   bool nearStaticTrack(double x, double y, double t) const;
   void startTrack(const PersonDetection& d, double t);
+  /// A leg alone within half leg_pair_distance of a person detected this scan is one of their
+  /// legs that the pairing left over (two people passing close, a leg seen twice), not a new
+  /// person: two walkers crossing made a third track of such legs, which took a lost id.
+  bool legOfPerson(const PersonDetection& d, double t) const;
   struct StaticEnd {
     double x, y, t;
   };
