@@ -252,11 +252,16 @@ void PersonTracker::miss(PersonTrack& tr, const ScanHits& hits, double t) {
     if (t - lost->since_t > options_.lost_s) endTrack(tr, t);
     return;
   }
-  if (tr.kind() == PersonState::Confirmed) tr.state = CoastingState{tr.last_detected_t, 0, false};
+  if (tr.kind() == PersonState::Confirmed) tr.state = CoastingState{tr.last_detected_t, 0, false, false};
   auto& st = std::get<CoastingState>(tr.state);
   switch (viewDisc(hits, tr.filter.x(), tr.filter.y(), options_.hold_radius)) {
     case DiscView::Occupied:  // still there, no longer in S's free space: standing
-      st = {t, 0, true};
+      if (st.unseen_standing) {  // back in view: only a detection says the one there is them
+        st.empty_scans = 0;
+        if (t - st.since_t > options_.lost_s) loseTrack(tr, t);
+        return;
+      }
+      st = {t, 0, true, false};
       if (speedOf(tr.filter) < options_.moving_speed) tr.filter.stop(kStoppedVelocityStd);
       return;
     case DiscView::Empty:
@@ -264,11 +269,21 @@ void PersonTracker::miss(PersonTrack& tr, const ScanHits& hits, double t) {
       if (++st.empty_scans >= options_.empty_scans) loseTrack(tr, t);
       return;
     case DiscView::Unseen:
-      st.held = false;
-      st.empty_scans = 0;
-      if (t - st.since_t > options_.coast_s) loseTrack(tr, t);
+      coastUnseen(tr, st, t);
       return;
   }
+}
+
+void PersonTracker::coastUnseen(PersonTrack& tr, CoastingState& st, double t) {
+  // Standing when they went out of view: nobody has seen the place empty since, so they still
+  // stand there, unseen, until lost_s (a walking person's prediction is a guess after coast_s).
+  if (!st.unseen_standing && speedOf(tr.filter) < options_.moving_speed) {
+    st.unseen_standing = true;
+    tr.filter.stop(kStoppedVelocityStd);
+  }
+  st.held = false;
+  st.empty_scans = 0;
+  if (t - st.since_t > (st.unseen_standing ? options_.lost_s : options_.coast_s)) loseTrack(tr, t);
 }
 
 void PersonTracker::endTrack(PersonTrack& tr, double t) {

@@ -293,6 +293,27 @@ TEST(PersonTracking, WalkerWhoStopsKeepsTheId) {
   EXPECT_EQ(r.objects, 0u);
 }
 
+TEST(PersonTracking, WalkerWhoStopsOutOfViewKeepsTheId) {
+  // The robot at (-5, 0) faces east 12 s, turns, faces west 8 s (away), turns back east at
+  // about 22 s. The walker comes from (6, 2), stands at (0, 2) from 6 s to 26 s, walks back.
+  // Unseen while it stood, nobody saw the place empty: looked at again, the one standing there
+  // is the same person, reported again before they walk on, with the same id.
+  const std::string robot =
+      "-5 0  -3.8 0  -4.6 0  -3.8 0\nloop = false\nspeed_mps = 0.1\nturn_rate_dps = 90";
+  const std::string text = hall(
+      "[people]\nperson.1 = 0.45 1.0  6 2  0 2\nlegs.1 = 0.13 0.25\npause.1 = 1 2 20\n", 34,
+      robot);
+  const WorldRun r = runWorld(text);
+  ASSERT_EQ(r.people.size(), 1u);
+  std::size_t away = 0, back_standing = 0;
+  for (const Row& row : r.rows) {
+    away += row.t > 15 && row.t < 21;
+    back_standing += row.t > 24 && row.t < 25.8;
+  }
+  EXPECT_EQ(away, 0u);  // not reported where it is not seen
+  EXPECT_GE(back_standing, 5u);
+}
+
 TEST(PersonTracking, MovedCylinderIsNoPerson) {
   // A 0.4 m cylinder glides 5 m in 5 s (a walker's pace), then stands; one jumps 3 m at once.
   const std::string text = hall(

@@ -37,9 +37,9 @@ struct PeopleOptions {
   double moving_speed = 0.25;     ///< [m/s] slower than this a track is not moving; [0, 10]
   double confirm_travel = 0.5;    ///< [m] ...and has gone this far from where it appeared; [0, 100]
   double tentative_miss_s = 0.6;  ///< [s] a tentative track unseen this long ends; (0, 60]
-  double coast_s = 4.0;           ///< [s] a person unseen (and out of view) this long ends; (0, 600]
+  double coast_s = 4.0;           ///< [s] a person walking out of view is lost after this long; (0, 600]
   double hold_radius = 0.15;      ///< [m] a beam ending this near a lost person holds them; [0, 2]
-  double lost_s = 60.0;           ///< [s] a lost person's id can be given back this long; 0 = never; [0, 3600]
+  double lost_s = 60.0;           ///< [s] a lost person's id can be given back this long, and one who went out of view standing is kept this long; 0 = never; [0, 3600]
   double reid_distance = 50.0;    ///< [m] ...to a new track confirmed this near their last detection; [0, 100]
   double max_speed = 2.0;         ///< [m/s] ...and within gate + max_speed x time since; (0, 20]
   /// [s] a new track within reid_distance of a lost person (and not near an object) is that

@@ -15,8 +15,9 @@
 // cluster) -> Confirmed (a person, with an id) -> Coasting (not detected this
 // scan) -> Lost -> Ended. A coasting person whose place the scan shows occupied (a beam ends
 // within hold_radius) is held: a person who stopped keeps their id, however long, until they
-// walk on (a detection again) or their place is seen empty for empty_scans scans; out of view
-// past coast_s, or seen empty, a person is Lost: kept lost_s, and a track confirmed within
+// walk on (a detection again) or their place is seen empty for empty_scans scans; one who went
+// out of view standing is kept, unreported, until detected there again, their place seen empty,
+// or lost_s; out of view past coast_s (walking), or seen empty, a person is Lost: kept lost_s, and a track confirmed within
 // reach of where they were last detected (reid_distance, and gate + max_speed x the time since)
 // takes their id back, the nearest such person first; such a track is confirmed after
 // reacquire_s and reacquire_travel.
@@ -77,6 +78,9 @@ struct CoastingState {
   double since_t = 0;   ///< last detected
   int empty_scans = 0;  ///< consecutive scans that saw its place empty
   bool held = false;    ///< this scan saw its place occupied
+  /// Went out of view standing: kept (not reported) until a detection, their place seen empty,
+  /// or lost_s; a beam ending there is not taken for them.
+  bool unseen_standing = false;
 };
 /// A person no longer followed (out of view past coast_s, or their place seen empty), kept
 /// lost_s so that a new track starting within reid_distance of where they were last detected
@@ -165,6 +169,7 @@ class PersonTracker {
   std::vector<int> associate(const std::vector<PersonDetection>& detections) const;
   void correct(PersonTrack& tr, const PersonDetection& d, double t);
   void miss(PersonTrack& tr, const ScanHits& hits, double t);
+  void coastUnseen(PersonTrack& tr, CoastingState& st, double t);
   void advanceTentative(PersonTrack& tr, double t);
   void endTrack(PersonTrack& tr, double t);
   void loseTrack(PersonTrack& tr, double t);
