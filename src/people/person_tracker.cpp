@@ -255,14 +255,20 @@ void PersonTracker::miss(PersonTrack& tr, const ScanHits& hits, double t) {
   if (tr.kind() == PersonState::Confirmed) tr.state = CoastingState{tr.last_detected_t, 0, false, false};
   auto& st = std::get<CoastingState>(tr.state);
   switch (viewDisc(hits, tr.filter.x(), tr.filter.y(), options_.hold_radius)) {
-    case DiscView::Occupied:  // still there, no longer in S's free space: standing
+    case DiscView::Occupied:  // still there, no longer in S's free space: standing?
       if (st.unseen_standing) {  // back in view: only a detection says the one there is them
         st.empty_scans = 0;
         if (t - st.since_t > options_.lost_s) loseTrack(tr, t);
         return;
       }
+      if (speedOf(tr.filter) >= options_.moving_speed) {
+        // Walking when last detected: a beam ending on the prediction is no sign of them (a
+        // wall it runs into, someone else); held, such a track walked on through walls.
+        coastUnseen(tr, st, t);
+        return;
+      }
       st = {t, 0, true, false};
-      if (speedOf(tr.filter) < options_.moving_speed) tr.filter.stop(kStoppedVelocityStd);
+      tr.filter.stop(kStoppedVelocityStd);
       return;
     case DiscView::Empty:
       st.held = false;

@@ -122,6 +122,33 @@ TEST(PersonTracker, ALegLeftOverBesideAPersonIsNoNewTrack) {
   }
 }
 
+TEST(PersonTracker, AWalkerNoLongerDetectedIsNotHeldByTheWallBesideThem) {
+  // A walker goes along x at 1 m/s, 0.1 m from a wall (y = 0.1) that every beam of a sensor at
+  // (0, -3) ends on. Detected until 2 s, then not: beams still end within hold_radius of where
+  // they would be, but on the wall. Walking, they are not held there (before, the track walked
+  // on along the wall, reported every scan, as long as the wall went on).
+  ScanHits wall;
+  wall.sensor_x = 0;
+  wall.sensor_y = -3;
+  wall.max_range = 20;
+  for (int i = 1; i < 180; ++i) {
+    const double a = M_PI * i / 180;
+    wall.angles.push_back(a);
+    wall.ranges.push_back(static_cast<float>(3.1 / std::sin(a)));
+  }
+  PersonTracker tracker;
+  std::size_t reported_after = 0;
+  for (int k = 0; k <= 25; ++k) {
+    const double t = 0.2 * k;
+    std::vector<PersonDetection> dets;
+    if (t <= 2.0) dets.push_back({-2 + t, 0, 2});
+    tracker.update(dets, wall, t);
+    if (t <= 2.0) continue;
+    reported_after += tracker.reported().size();
+  }
+  EXPECT_EQ(reported_after, 0u);
+}
+
 // --- runs over simulated worlds ----------------------------------------------------------------
 
 // A 20 m wide hall, 2 * half_height tall; the robot stands at `robot` ("x y") looking along +x

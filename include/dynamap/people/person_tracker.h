@@ -13,11 +13,13 @@
 // stays, a person walks on; but confirm_s again once it was often seen as a pair of legs
 // (TentativeState::mostlyLegs) and the pair itself went confirm_travel: a moved object is one
 // cluster) -> Confirmed (a person, with an id) -> Coasting (not detected this
-// scan) -> Lost -> Ended. A coasting person whose place the scan shows occupied (a beam ends
-// within hold_radius) is held: a person who stopped keeps their id, however long, until they
-// walk on (a detection again) or their place is seen empty for empty_scans scans; one who went
-// out of view standing is kept, unreported, until detected there again, their place seen empty,
-// or lost_s; out of view past coast_s (walking), or seen empty, a person is Lost: kept lost_s, and a track confirmed within
+// scan) -> Lost -> Ended. A coasting person who was standing (slower than moving_speed) whose
+// place the scan shows occupied (a beam ends within hold_radius) is held: a person who stopped
+// keeps their id, however long, until they walk on (a detection again) or their place is seen
+// empty for empty_scans scans. A walker is never held so: a beam ending on their prediction is a
+// wall they would walk into, or someone else. One who went out of view standing is kept,
+// unreported, until detected there again, their place seen empty, or lost_s. Out of view past
+// coast_s (walking), or seen empty, a person is Lost: kept lost_s, and a track confirmed within
 // reach of where they were last detected (reid_distance, and gate + max_speed x the time since)
 // takes their id back, the nearest such person first; such a track is confirmed after
 // reacquire_s and reacquire_travel.
