@@ -60,7 +60,7 @@ struct SlamOptions {
   // Loop closure.
   double loop_every_m = 2.0;           ///< path between loop closure attempts (0, 1000]
   double loop_min_path_m = 10.0;       ///< submaps at least this far back along the path [0, 1e6]
-  double loop_max_distance_m = 8.0;    ///< ... whose anchor is this close (estimate) (0, 1000]
+  double loop_max_distance_m = 8.0;    ///< ... whose middle scan is this close (estimate) (0, 1000]
   int loop_max_candidates = 3;         ///< the nearest this many submaps per attempt [1, 100]
   double loop_window_m = 0.3;          ///< search window right after a loop closure [0, 20]
   double loop_window_per_m = 0.03;     ///< ... growing by this per metre of path since [0, 1]
