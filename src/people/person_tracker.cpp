@@ -256,14 +256,10 @@ void PersonTracker::miss(PersonTrack& tr, const ScanHits& hits, double t) {
   auto& st = std::get<CoastingState>(tr.state);
   switch (viewDisc(hits, tr.filter.x(), tr.filter.y(), options_.hold_radius)) {
     case DiscView::Occupied:  // still there, no longer in S's free space: standing?
-      if (st.unseen_standing) {  // back in view: only a detection says the one there is them
-        st.empty_scans = 0;
-        if (t - st.since_t > options_.lost_s) loseTrack(tr, t);
-        return;
-      }
-      if (speedOf(tr.filter) >= options_.moving_speed) {
-        // Walking when last detected: a beam ending on the prediction is no sign of them (a
-        // wall it runs into, someone else); held, such a track walked on through walls.
+      // Not if they were last seen walking: a beam ending on the prediction is no sign of them
+      // (a wall it runs into, someone else; held, such a track walked on through walls). Nor if
+      // they stood out of view: only a detection says the one standing there is them.
+      if (st.unseen_standing || speedOf(tr.filter) >= options_.moving_speed) {
         coastUnseen(tr, st, t);
         return;
       }
