@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "dynamap/base/cell_key.h"
 #include "dynamap/mapping/dynamic_grid_map.h"
 
 namespace dynamap {
@@ -183,51 +184,46 @@ int objectExtentCells(const DynamicGridMap& map, const PeopleOptions& o) {
   return static_cast<int>(std::ceil(o.object_max_extent / map.getResolution()));
 }
 
-std::int64_t cellKey(int x, int y) {
-  return static_cast<std::int64_t>(static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32 |
-                                   static_cast<std::uint32_t>(y));
-}
-
 // A set of cell keys for one scan's searches: open addressing in a table that doubles when half
 // full, so an insert allocates only when the table grows (a node-based set allocates per cell,
 // and a wall met near a detection is hundreds of cells).
 class CellSet {
  public:
   CellSet() : table_(kInitial, kEmpty) {}
-  bool count(std::int64_t key) const {
+  bool count(CellKey key) const {
     for (std::size_t i = slot(key);; i = (i + 1) & (table_.size() - 1)) {
       if (table_[i] == key) return true;
       if (table_[i] == kEmpty) return false;
     }
   }
-  void insert(std::int64_t key) {
+  void insert(CellKey key) {
     if (2 * (size_ + 1) > table_.size()) grow();
     place(key);
   }
 
  private:
   // No cell of a grid has the most negative x index: never a key.
-  static constexpr std::int64_t kEmpty = std::numeric_limits<std::int64_t>::min();
+  static constexpr CellKey kEmpty = std::numeric_limits<CellKey>::min();
   static constexpr std::size_t kInitial = 1024;
-  std::size_t slot(std::int64_t key) const {
+  std::size_t slot(CellKey key) const {
     const auto h = static_cast<std::uint64_t>(key) * 0x9E3779B97F4A7C15ull;
     return static_cast<std::size_t>(h >> 32) & (table_.size() - 1);
   }
-  void place(std::int64_t key) {
+  void place(CellKey key) {
     std::size_t i = slot(key);
     while (table_[i] != kEmpty && table_[i] != key) i = (i + 1) & (table_.size() - 1);
     if (table_[i] == kEmpty) ++size_;
     table_[i] = key;
   }
   void grow() {
-    std::vector<std::int64_t> previous(2 * table_.size(), kEmpty);
+    std::vector<CellKey> previous(2 * table_.size(), kEmpty);
     previous.swap(table_);  // table_ is now twice as large and empty
     size_ = 0;
-    for (const std::int64_t k : previous) {
+    for (const CellKey k : previous) {
       if (k != kEmpty) place(k);
     }
   }
-  std::vector<std::int64_t> table_;
+  std::vector<CellKey> table_;
   std::size_t size_ = 0;
 };
 

@@ -7,6 +7,8 @@
 #include <unordered_set>
 #include <vector>
 
+#include "dynamap/base/cell_key.h"
+
 namespace dynamap {
 
 /// A grid cell in global integer coordinates (cell (0,0) holds the world origin), so that keys
@@ -14,12 +16,6 @@ namespace dynamap {
 struct CellXY {
   int x, y;
 };
-using CellKey = std::int64_t;
-inline CellKey cellKey(int x, int y) {
-  // Shifted as unsigned: a negative x shifted left is undefined behaviour before C++20.
-  return static_cast<CellKey>((static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) ^
-                              static_cast<std::uint32_t>(y));
-}
 inline CellXY cellOf(CellKey k) {
   return {static_cast<int>(k >> 32), static_cast<int>(static_cast<std::uint32_t>(k & 0xffffffff))};
 }
