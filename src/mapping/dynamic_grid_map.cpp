@@ -10,6 +10,10 @@
 #include <limits>
 #include <stdexcept>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "dynamap/mapping/polygon_fill.h"
 #include "dynamap/mapping/ray_cast.h"
 
@@ -35,6 +39,27 @@ cellType firstCellWhere(Pass pass) {
   }
   return static_cast<cellType>(kCellMax);
 }
+
+#if defined(__SSE2__)
+// mask ? a : b, lane by lane (SSE2 has no blend).
+inline __m128i select(__m128i mask, __m128i a, __m128i b) {
+  return _mm_or_si128(_mm_and_si128(mask, a), _mm_andnot_si128(mask, b));
+}
+
+// A miss's update of 16 cells: saturating add, then clamp to the layer's range. Saturating
+// first changes nothing the clamp keeps, so this equals the scalar clampCell(c + delta, lo, hi).
+struct SimdStep {
+  __m128i delta, lo, hi;
+  static SimdStep of(const DynamicGridMap::MissStep& m) {
+    return {_mm_set1_epi8(m.delta), _mm_set1_epi8(m.lo), _mm_set1_epi8(m.hi)};
+  }
+  __m128i apply(__m128i c) const {
+    const __m128i sum = _mm_adds_epi8(c, delta);
+    const __m128i raised = select(_mm_cmpgt_epi8(lo, sum), lo, sum);
+    return select(_mm_cmpgt_epi8(raised, hi), hi, raised);
+  }
+};
+#endif
 
 }  // namespace
 
@@ -67,6 +92,12 @@ DynamicGridMap::DynamicGridMap(const DynamicMapOptions& options, const Insertion
     miss_s_[bits] = clampCell(c + deltas_.s_miss, kCellMin);
     miss_d_[bits] = clampCell(c + deltas_.d_miss, d_floor_, d_ceiling_);
   }
+  // The same updates as steps, for span()'s 16 cells at a time: only when each step fits a cell.
+  const auto fits = [](int delta) { return delta >= kCellMin - 1 && delta <= kCellMax; };
+  simd_steps_ = fits(deltas_.s_miss) && fits(deltas_.d_miss);
+  step_s_ = {static_cast<cellType>(simd_steps_ ? deltas_.s_miss : 0),
+             static_cast<cellType>(kCellMin), static_cast<cellType>(kCellMax)};
+  step_d_ = {static_cast<cellType>(simd_steps_ ? deltas_.d_miss : 0), d_floor_, d_ceiling_};
   syncLayers();
 }
 
@@ -440,13 +471,45 @@ void DynamicGridMap::sweepFreeArea(const mrpt::poses::CPose2D& sensor) {
 
 DynamicGridMap::MissKernel DynamicGridMap::missKernel() {
   return {m_map.data(), dyn_.data(),  stamp_.data(), miss_s_.data(), miss_d_.data(),
-          scan_stamp_,  object_cell_, &changed_};
+          scan_stamp_,  object_cell_, &changed_,     step_s_,        step_d_,
+          simd_steps_};
 }
 
 std::uint32_t DynamicGridMap::MissKernel::span(std::size_t begin, std::size_t end) const {
   const MissKernel k = *this;
   std::uint32_t freed = 0;
-  for (std::size_t i = begin; i < end; ++i) freed += k.visit(i);
+  std::size_t i = begin;
+#if defined(__SSE2__)
+  if (k.simd) {
+    // 16 cells at a time: the miss is a saturating add clamped to the layer's range, the same
+    // value the tables hold (simd is false when a step does not fit a cell).
+    const __m128i mark_v = _mm_set1_epi8(static_cast<char>(k.mark));
+    const __m128i obj_v = _mm_set1_epi8(k.object_cell);
+    const SimdStep s_step = SimdStep::of(k.s_step), d_step = SimdStep::of(k.d_step);
+    for (; i + 16 <= end; i += 16) {
+      auto* st = reinterpret_cast<__m128i*>(k.stamp + i);
+      auto* sp = reinterpret_cast<__m128i*>(k.s + i);
+      auto* dp = reinterpret_cast<__m128i*>(k.d + i);
+      const __m128i fresh = _mm_xor_si128(_mm_cmpeq_epi8(_mm_loadu_si128(st), mark_v),
+                                          _mm_set1_epi8(-1));
+      const int fresh_bits = _mm_movemask_epi8(fresh);
+      if (fresh_bits == 0) continue;
+      _mm_storeu_si128(st, mark_v);
+      const __m128i s0 = _mm_loadu_si128(sp), d0 = _mm_loadu_si128(dp);
+      const __m128i s1 = s_step.apply(s0), d1 = d_step.apply(d0);
+      _mm_storeu_si128(sp, select(fresh, s1, s0));
+      _mm_storeu_si128(dp, select(fresh, d1, d0));
+      // An object cell (d < object_cell) that this miss takes out of the objects.
+      const __m128i left = _mm_andnot_si128(_mm_cmpgt_epi8(obj_v, d1),
+                                            _mm_and_si128(fresh, _mm_cmpgt_epi8(obj_v, d0)));
+      for (int bits = _mm_movemask_epi8(left); bits != 0; bits &= bits - 1) {
+        k.changed->push_back(static_cast<std::uint32_t>(i + __builtin_ctz(bits)));
+      }
+      freed += static_cast<std::uint32_t>(__builtin_popcount(fresh_bits));
+    }
+  }
+#endif
+  for (; i < end; ++i) freed += k.visit(i);
   return freed;
 }
 

@@ -118,6 +118,10 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   const Deltas& deltas() const { return deltas_; }
   cellType freeThresholdCell() const { return free_cell_; }
   cellType objectThresholdCell() const { return object_cell_; }
+  /// A miss's update as arithmetic: clamp(cell + delta, lo, hi), the value its table holds.
+  struct MissStep {
+    cellType delta, lo, hi;
+  };
 
  private:
   bool internal_insertObservation(
@@ -151,6 +155,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
     std::uint8_t mark;
     cellType object_cell;
     std::vector<std::uint32_t>* changed;
+    MissStep s_step, d_step;  // the tables as arithmetic, for 16 cells at a time
+    bool simd;                // the steps fit a cell (else spans use the tables)
     /// Updates cell `i` as crossed, unless this scan already updated it: returns 1 if it did,
     /// else 0. Branch-free but for the rare change of state: along a beam, cells already
     /// updated (by the swept area, by a neighbouring beam) and new ones alternate unpredictably.
@@ -204,6 +210,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   std::vector<std::uint32_t> changed_;
   ScanInsertStats last_stats_;
   std::array<cellType, 256> miss_s_{}, miss_d_{};  // a miss's update, by the cell's bits
+  MissStep step_s_{}, step_d_{};                   // the same as arithmetic
+  bool simd_steps_ = false;                        // both steps fit a cell
 
   // Per-scan scratch, kept to avoid reallocations.
   enum RayKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
