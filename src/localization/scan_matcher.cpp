@@ -3,7 +3,6 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/wrap2pi.h>
-#include <mrpt/slam/CICP.h>
 
 #include <Eigen/Dense>
 
@@ -16,6 +15,7 @@
 
 #include "dynamap/base/ini.h"
 #include "dynamap/base/option_table.h"
+#include "dynamap/localization/icp_module.h"
 
 namespace dynamap {
 namespace {
@@ -376,24 +376,16 @@ mrpt::poses::CPose2D icpAlign(const mrpt::maps::CSimplePointsMap& reference,
                               const mrpt::maps::CSimplePointsMap& scan_map,
                               const mrpt::poses::CPose2D& start, const ScanMatchOptions& o,
                               ScanMatchResult& r) {
-  mrpt::slam::CICP icp;
-  icp.setMinLoggingLevel(mrpt::system::LVL_ERROR);
-  auto& io = icp.options;
-  io.ICP_algorithm = mrpt::slam::icpClassic;
-  io.maxIterations = static_cast<unsigned>(o.icp_max_iterations);
-  io.thresholdDist = o.icp_threshold_dist_m;
-  io.thresholdAng = 0.15 * kDegToRad;
-  io.ALFA = 0.5;
-  io.smallestThresholdDist = o.icp_smallest_threshold_dist_m;
-  io.onlyUniqueRobust = false;
-  io.doRANSAC = false;
-  io.skip_cov_calculation = true;
-  io.skip_quality_calculation = true;
-  io.corresponding_points_decimation = 1;  // every point: few points, and the pose must be exact
-  mrpt::slam::CICP::TReturnInfo info;
-  const auto pdf = icp.Align(&reference, &scan_map, start, info);
-  r.icp_iterations = info.nIterations;
-  return pdf->getMeanVal();
+  IcpParams p;
+  p.max_iterations = static_cast<unsigned>(o.icp_max_iterations);
+  p.threshold_dist = o.icp_threshold_dist_m;
+  p.threshold_ang = 0.15 * kDegToRad;
+  p.alfa = 0.5;
+  p.smallest_threshold_dist = o.icp_smallest_threshold_dist_m;
+  unsigned iterations = 0;
+  const mrpt::poses::CPose2D matched = icpAlignModule(reference, scan_map, start, p, iterations);
+  r.icp_iterations = iterations;
+  return matched;
 }
 
 /// The inliers at the matched pose (every scan point judged, not only those that overlapped S at
