@@ -16,6 +16,7 @@
 #include <fstream>
 #include <limits>
 #include <set>
+#include <string_view>
 
 #include "dynamap/base/ini.h"
 #include "dynamap/input/line_reader.h"
@@ -33,15 +34,21 @@ constexpr std::size_t kOldLaserTail = 9;
 // host logger.
 constexpr std::size_t kRobotLaserTail = 14;
 
-std::vector<std::string> splitFields(const std::string& line) {
-  std::vector<std::string> fields;
+// CARMEN's separators: isspace's set in the C locale, without a call per character.
+constexpr bool isSeparator(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r';
+}
+
+// The line's fields as views into it (a log line has hundreds: no string each).
+std::vector<std::string_view> splitFields(const std::string& line) {
+  std::vector<std::string_view> fields;
   std::size_t i = 0;
   const std::size_t n = line.size();
   while (i < n) {
-    while (i < n && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < n && isSeparator(line[i])) ++i;
     std::size_t j = i;
-    while (j < n && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
-    if (j > i) fields.emplace_back(line, i, j - i);
+    while (j < n && !isSeparator(line[j])) ++j;
+    if (j > i) fields.emplace_back(line.data() + i, j - i);
     i = j;
   }
   return fields;
@@ -50,34 +57,34 @@ std::vector<std::string> splitFields(const std::string& line) {
 /// Reads the fields of one line in order, each failure naming the field.
 class FieldCursor {
  public:
-  explicit FieldCursor(const std::vector<std::string>& f) : f_(f) {}
+  explicit FieldCursor(const std::vector<std::string_view>& f) : f_(f) {}
 
   double number(const char* what) {
-    const std::string& s = field(what);
+    const std::string_view s = field(what);
     double v = 0;
     const CarmenNumber r = parseCarmenNumber(s, v);
     if (r == CarmenNumber::kSubnormal) subnormal(what, s);
-    if (r != CarmenNumber::kOk) fail(what, "'" + s + "' is not a finite number");
+    if (r != CarmenNumber::kOk) fail(what, "'" + std::string(s) + "' is not a finite number");
     return v;
   }
   /// A range: a number that may be nan or inf (an invalid beam, not a bad line).
   float range() {
-    const std::string& s = field("range");
+    const std::string_view s = field("range");
     double v = 0;
     const CarmenNumber r = parseCarmenNumber(s, v);
     if (r == CarmenNumber::kSubnormal) subnormal("range", s);
-    if (r == CarmenNumber::kNotNumber) fail("range", "'" + s + "' is not a number");
+    if (r == CarmenNumber::kNotNumber) fail("range", "'" + std::string(s) + "' is not a number");
     return static_cast<float>(v);
   }
   std::size_t count(const char* what) {
-    const std::string& s = field(what);
+    const std::string_view s = field(what);
     const char* first = s.data() + (s.size() > 1 && s[0] == '+' ? 1 : 0);
     const char* last = s.data() + s.size();
     unsigned long long v = 0;
     const auto [end, ec] = std::from_chars(first, last, v);
     if (ec != std::errc() || end != last || first[0] == '-' ||
         v > std::numeric_limits<std::size_t>::max()) {
-      fail(what, "'" + s + "' is not a count");
+      fail(what, "'" + std::string(s) + "' is not a count");
     }
     return static_cast<std::size_t>(v);
   }
@@ -93,30 +100,32 @@ class FieldCursor {
   std::size_t remaining() const { return f_.size() - pos_; }
 
   [[noreturn]] void fail(const char* what, const std::string& msg) const {
-    throw CarmenParseError(f_[0] + " field " + std::to_string(pos_) + " (" + what + "): " + msg);
+    throw CarmenParseError(std::string(f_[0]) + " field " + std::to_string(pos_) + " (" + what +
+                           "): " + msg);
   }
-  [[noreturn]] void subnormal(const char* what, const std::string& s) const {
-    throw CarmenSubnormalNumber(f_[0] + " field " + std::to_string(pos_) + " (" + what + "): '" +
-                                s + "' is subnormal (a corrupt record)");
+  [[noreturn]] void subnormal(const char* what, std::string_view s) const {
+    throw CarmenSubnormalNumber(std::string(f_[0]) + " field " + std::to_string(pos_) + " (" +
+                                what + "): '" + std::string(s) +
+                                "' is subnormal (a corrupt record)");
   }
 
  private:
-  const std::string& field(const char* what) {
+  std::string_view field(const char* what) {
     if (pos_ >= f_.size()) tooFew(what);
     return f_[pos_++];
   }
   [[noreturn]] void tooFew(const char* what) const {
-    throw CarmenParseError(f_[0] + ": too few fields (" + std::to_string(f_.size()) +
+    throw CarmenParseError(std::string(f_[0]) + ": too few fields (" + std::to_string(f_.size()) +
                            ", ran out reading " + what + ")");
   }
-  const std::vector<std::string>& f_;
+  const std::vector<std::string_view>& f_;
   std::size_t pos_ = 1;  // field 0 is the message word
 };
 
-void requireFieldCount(const std::vector<std::string>& f, std::size_t expected,
+void requireFieldCount(const std::vector<std::string_view>& f, std::size_t expected,
                        const std::string& why) {
   if (f.size() == expected) return;
-  throw CarmenParseError(f[0] + ": " + why + " needs " + std::to_string(expected) +
+  throw CarmenParseError(std::string(f[0]) + ": " + why + " needs " + std::to_string(expected) +
                          " fields, the line has " + std::to_string(f.size()));
 }
 
@@ -141,7 +150,7 @@ std::size_t beamCount(FieldCursor& c) {
 }
 
 /// FLASER|RLASER num_readings r1..rn x y theta odom_x odom_y odom_theta ipc host logger
-CarmenLaser parseOldLaser(const std::vector<std::string>& f) {
+CarmenLaser parseOldLaser(const std::vector<std::string_view>& f) {
   FieldCursor c(f);
   CarmenLaser laser;
   laser.kind = f[0] == "RLASER" ? CarmenLaserKind::Rear : CarmenLaserKind::Front;
@@ -157,7 +166,7 @@ CarmenLaser parseOldLaser(const std::vector<std::string>& f) {
 /// ROBOTLASER1 laser_type start_angle fov angular_resolution max_range accuracy remission_mode
 /// num_readings r.. num_remissions e.. laser_x y theta robot_x y theta tv rv fwd side turn_axis
 /// ipc host logger
-CarmenLaser parseRobotLaser(const std::vector<std::string>& f) {
+CarmenLaser parseRobotLaser(const std::vector<std::string_view>& f) {
   FieldCursor c(f);
   CarmenLaser laser;
   laser.kind = CarmenLaserKind::Robot;
@@ -189,7 +198,7 @@ CarmenLaser parseRobotLaser(const std::vector<std::string>& f) {
 }
 
 /// ODOM x y theta tv rv accel ipc host logger
-CarmenOdometry parseOdometry(const std::vector<std::string>& f) {
+CarmenOdometry parseOdometry(const std::vector<std::string_view>& f) {
   requireFieldCount(f, 10, "ODOM");
   FieldCursor c(f);
   CarmenOdometry odo;
@@ -269,7 +278,7 @@ bool plainDecimal(const char* p, const char* end, double& v) {
 
 }  // namespace
 
-CarmenNumber parseCarmenNumber(const std::string& field, double& v) {
+CarmenNumber parseCarmenNumber(std::string_view field, double& v) {
   if (plainDecimal(field.data(), field.data() + field.size(), v)) return CarmenNumber::kOk;
   // strtod took a leading '+'; from_chars does not: skip one, unless a sign follows it.
   const bool plus = field.size() > 1 && field[0] == '+' && field[1] != '-' && field[1] != '+';
@@ -302,7 +311,7 @@ CarmenLine parseCarmenLine(const std::string& line) {
     out.type = "#";
     return out;
   }
-  const std::vector<std::string> f = splitFields(line);
+  const std::vector<std::string_view> f = splitFields(line);
   if (f.empty()) return out;  // only separators splitFields knows and the test above does not
   out.type = f[0];
   if (out.type == "FLASER" || out.type == "RLASER") {
@@ -313,7 +322,7 @@ CarmenLine parseCarmenLine(const std::string& line) {
     out.odometry = parseOdometry(f);
   } else if (out.type == "PARAM") {
     if (f.size() < 3) throw CarmenParseError("PARAM: needs a name and a value");
-    out.param = std::make_pair(f[1], f[2]);
+    out.param = std::make_pair(std::string(f[1]), std::string(f[2]));
   }
   return out;
 }

@@ -24,6 +24,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "dynamap/base/pose_track.h"
@@ -77,7 +78,7 @@ class CarmenSubnormalNumber : public CarmenParseError {
 /// How a field of a CARMEN line reads as a number (std::from_chars: no locale, no streams; a
 /// leading '+' is accepted as strtod did). kSubnormal: `v` holds the subnormal value.
 enum class CarmenNumber { kOk, kNotNumber, kNotFinite, kSubnormal };
-CarmenNumber parseCarmenNumber(const std::string& field, double& v);
+CarmenNumber parseCarmenNumber(std::string_view field, double& v);
 
 /// Which laser an old- or new-format line comes from.
 enum class CarmenLaserKind { Front, Rear, Robot };
