@@ -431,12 +431,13 @@ mrpt::obs::CObservation2DRangeScan::Ptr makeScan(const CarmenLaser& laser,
   scan->rightToLeft = true;
   scan->maxRange = static_cast<float>(max_range);
   scan->sensorPose = mrpt::poses::CPose3D(mount + mrpt::poses::CPose2D(0, 0, centre));
-  scan->resizeScan(n);
+  // In one call, not two checked setter calls per beam.
+  std::vector<char> valid(n);
   for (std::size_t i = 0; i < n; ++i) {
     const float r = laser.ranges[i];
-    scan->setScanRange(i, r);
-    scan->setScanRangeValidity(i, std::isfinite(r) && r > 0 && r < scan->maxRange);
+    valid[i] = std::isfinite(r) && r > 0 && r < scan->maxRange ? 1 : 0;
   }
+  scan->loadFromVectors(n, laser.ranges.data(), valid.data());
   return scan;
 }
 
