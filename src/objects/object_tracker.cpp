@@ -425,7 +425,9 @@ bool ObjectTracker::onObjectCell(const DynamicGridMap& map, double x, double y) 
   if (cx < 0 || cy < 0 || cx >= static_cast<int>(map.getSizeX()) ||
       cy >= static_cast<int>(map.getSizeY()))
     return false;
-  return owner_.count(cellKey(cx + origin_x_, cy + origin_y_)) != 0;
+  // D's own test first: a beam that ends on no object cell (most) costs no hash lookup. The
+  // tracker's object cells are D's (foldChanges keeps them so), so this drops nothing.
+  return map.isObjectCell(cx, cy) && owner_.count(cellKey(cx + origin_x_, cy + origin_y_)) != 0;
 }
 
 void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& view) {
