@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "dynamap/input/open_source.h"
+#include "dynamap/input/read_ahead.h"
 #include "dynamap/outputs/map_outputs.h"
 #include "dynamap/outputs/output_staging.h"
 #include "dynamap/outputs/render.h"
@@ -114,7 +115,8 @@ std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
   config.poses = PoseSource::Slam;  // config.ini says what ran
   InputOptions input = inputOptions(job);  // the log read again the same way
   input.poses = PoseSource::Slam;
-  source = std::make_unique<OptimisedPoseSource>(openScanSource(job.input, input), run->poses);
+  source = readAhead(
+      std::make_unique<OptimisedPoseSource>(openScanSource(job.input, input), run->poses));
   if (job.on_pass) job.on_pass(2);
   return run;
 }
@@ -125,7 +127,8 @@ MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   InputOptions input = inputOptions(job);
   input.poses = job.config.poses;
   input.fixed_pose = job.config.fixed_pose;
-  auto source = openScanSource(job.input, input);
+  // Read beside the mapping, on the second core: the same scans in the same order.
+  auto source = readAhead(openScanSource(job.input, input));
   MapConfig config = job.config;
   std::unique_ptr<SlamRun> slam;
   if (usesSlam(config.poses, *source)) slam = slamPass(job, config, source);
