@@ -1,5 +1,6 @@
 #include "dynamap/outputs/run_outputs.h"
 
+#include <future>
 #include <iomanip>
 #include <ostream>
 
@@ -178,11 +179,16 @@ Json summary(const Mapper& mapper, const ScanSource& source, const OutputInfo& i
 void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSource& source,
                      const OutputInfo& info) {
   const DynamicGridMap& m = mapper.map();
+  // The overlay, the costliest picture, is drawn and encoded on a second core meanwhile; all
+  // of them only read the mapper. get() below passes on its error, if any.
+  std::future<void> overlay = std::async(std::launch::async, [&] {
+    const std::vector<PersonTrail> trails = mapper.people().trails();
+    saveImageAtomically(renderOverlay(m, mapper.path(), &mapper.tracker().objects(), &trails),
+                        dir, "overlay.png");
+  });
   saveImageAtomically(renderStatic(m), dir, "static.png");
   saveImageAtomically(renderDynamic(m), dir, "dynamic.png");
-  const std::vector<PersonTrail> trails = mapper.people().trails();
-  saveImageAtomically(renderOverlay(m, mapper.path(), &mapper.tracker().objects(), &trails), dir,
-                      "overlay.png");
+  overlay.get();
   writeGridmap(m, dir, "static.gridmap.gz");
   writeDynamicGridmap(m, dir, "dynamic.gridmap.gz");
   writeRosMap(m, dir, "static");
