@@ -282,10 +282,13 @@ bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
     x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     small = x1 - x0 < extent && y1 - y0 < extent && !large.count(cellKey(x, y));
     // Cells up to 2 apart are one body: a wall seen from afar has a free cell between two hits.
+    // (isStaticOccupied's test, a row at a time: this loop is most of a scan's detection.)
+    const int size_x = static_cast<int>(map.getSizeX());
     for (int dy = -2; dy <= 2 && small; ++dy) {
-      for (int dx = -2; dx <= 2; ++dx) {
-        if (map.isStaticOccupied(x + dx, y + dy) && seen.insert(x + dx, y + dy))
-          todo.emplace_back(x + dx, y + dy);
+      const DynamicGridMap::cellType* row = map.getRow(y + dy);
+      if (row == nullptr) continue;
+      for (int dx = std::max(-2, -x); dx <= 2 && x + dx < size_x; ++dx) {
+        if (row[x + dx] < 0 && seen.insert(x + dx, y + dy)) todo.emplace_back(x + dx, y + dy);
       }
     }
   }
