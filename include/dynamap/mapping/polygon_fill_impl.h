@@ -6,6 +6,21 @@
 
 namespace dynamap {
 
+/// Sorts a row's crossings ascending: a row has a few (two for a convex stretch), where an
+/// insertion sort beats std::sort's set-up; equal values are interchangeable.
+inline void sortCrossings(double* first, double* last) {
+  if (last - first > 16) {
+    std::sort(first, last);
+    return;
+  }
+  for (double* i = first + 1; i < last; ++i) {
+    const double v = *i;
+    double* j = i;
+    for (; j > first && *(j - 1) > v; --j) *j = *(j - 1);
+    *j = v;
+  }
+}
+
 template <typename Span>
 void fillPolygon(const std::vector<GridPoint>& vertices, int size_x, int size_y,
                  PolygonFillScratch& scratch, Span&& span) {
@@ -53,7 +68,7 @@ void fillPolygon(const std::vector<GridPoint>& vertices, int size_x, int size_y,
   std::uint32_t begin = 0;
   for (int r = 0; r < rows; ++r) {
     const std::uint32_t end = count[r];
-    std::sort(xs.begin() + begin, xs.begin() + end);
+    sortCrossings(xs.data() + begin, xs.data() + end);
     for (std::uint32_t k = begin; k + 1 < end; k += 2) {
       // Centres cx + 0.5 within [xs[k], xs[k + 1]).
       const int cx_begin = std::max(0, static_cast<int>(std::ceil(xs[k] - 0.5)));
