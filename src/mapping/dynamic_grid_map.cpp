@@ -475,38 +475,59 @@ DynamicGridMap::MissKernel DynamicGridMap::missKernel() {
           simd_steps_};
 }
 
+#if defined(__SSE2__)
+namespace {
+
+// The miss of 16 cells from `i`, those this scan has not updated yet: how many it updated.
+// Cells it already updated (stamped) are left as they are, so blocks may overlap. (A template
+// only because the kernel is a private type of DynamicGridMap.)
+template <typename Kernel>
+struct MissBlock {
+  const Kernel& k;
+  __m128i mark, object_cell;
+  SimdStep s_step, d_step;
+
+  std::uint32_t operator()(std::size_t i) const {
+    auto* st = reinterpret_cast<__m128i*>(k.stamp + i);
+    auto* sp = reinterpret_cast<__m128i*>(k.s + i);
+    auto* dp = reinterpret_cast<__m128i*>(k.d + i);
+    const __m128i fresh =
+        _mm_xor_si128(_mm_cmpeq_epi8(_mm_loadu_si128(st), mark), _mm_set1_epi8(-1));
+    const int fresh_bits = _mm_movemask_epi8(fresh);
+    if (fresh_bits == 0) return 0;
+    _mm_storeu_si128(st, mark);
+    const __m128i s0 = _mm_loadu_si128(sp), d0 = _mm_loadu_si128(dp);
+    const __m128i s1 = s_step.apply(s0), d1 = d_step.apply(d0);
+    _mm_storeu_si128(sp, select(fresh, s1, s0));
+    _mm_storeu_si128(dp, select(fresh, d1, d0));
+    // An object cell (d < object_cell) that this miss takes out of the objects, in order.
+    const __m128i left = _mm_andnot_si128(_mm_cmpgt_epi8(object_cell, d1),
+                                          _mm_and_si128(fresh, _mm_cmpgt_epi8(object_cell, d0)));
+    for (int bits = _mm_movemask_epi8(left); bits != 0; bits &= bits - 1) {
+      k.changed->push_back(static_cast<std::uint32_t>(i + __builtin_ctz(bits)));
+    }
+    return static_cast<std::uint32_t>(__builtin_popcount(fresh_bits));
+  }
+};
+
+}  // namespace
+#endif
+
 std::uint32_t DynamicGridMap::MissKernel::span(std::size_t begin, std::size_t end) const {
   const MissKernel k = *this;
   std::uint32_t freed = 0;
   std::size_t i = begin;
 #if defined(__SSE2__)
-  if (k.simd) {
+  if (k.simd && end - begin >= 16) {
     // 16 cells at a time: the miss is a saturating add clamped to the layer's range, the same
-    // value the tables hold (simd is false when a step does not fit a cell).
-    const __m128i mark_v = _mm_set1_epi8(static_cast<char>(k.mark));
-    const __m128i obj_v = _mm_set1_epi8(k.object_cell);
-    const SimdStep s_step = SimdStep::of(k.s_step), d_step = SimdStep::of(k.d_step);
-    for (; i + 16 <= end; i += 16) {
-      auto* st = reinterpret_cast<__m128i*>(k.stamp + i);
-      auto* sp = reinterpret_cast<__m128i*>(k.s + i);
-      auto* dp = reinterpret_cast<__m128i*>(k.d + i);
-      const __m128i fresh = _mm_xor_si128(_mm_cmpeq_epi8(_mm_loadu_si128(st), mark_v),
-                                          _mm_set1_epi8(-1));
-      const int fresh_bits = _mm_movemask_epi8(fresh);
-      if (fresh_bits == 0) continue;
-      _mm_storeu_si128(st, mark_v);
-      const __m128i s0 = _mm_loadu_si128(sp), d0 = _mm_loadu_si128(dp);
-      const __m128i s1 = s_step.apply(s0), d1 = d_step.apply(d0);
-      _mm_storeu_si128(sp, select(fresh, s1, s0));
-      _mm_storeu_si128(dp, select(fresh, d1, d0));
-      // An object cell (d < object_cell) that this miss takes out of the objects.
-      const __m128i left = _mm_andnot_si128(_mm_cmpgt_epi8(obj_v, d1),
-                                            _mm_and_si128(fresh, _mm_cmpgt_epi8(obj_v, d0)));
-      for (int bits = _mm_movemask_epi8(left); bits != 0; bits &= bits - 1) {
-        k.changed->push_back(static_cast<std::uint32_t>(i + __builtin_ctz(bits)));
-      }
-      freed += static_cast<std::uint32_t>(__builtin_popcount(fresh_bits));
-    }
+    // value the tables hold (simd is false when a step does not fit a cell). The last block
+    // ends at `end`, overlapping the one before: the overlap is stamped, so it is left alone.
+    const MissBlock<MissKernel> block{k, _mm_set1_epi8(static_cast<char>(k.mark)),
+                          _mm_set1_epi8(k.object_cell), SimdStep::of(k.s_step),
+                          SimdStep::of(k.d_step)};
+    for (; i + 16 <= end; i += 16) freed += block(i);
+    if (i < end) freed += block(end - 16);
+    return freed;
   }
 #endif
   for (; i < end; ++i) freed += k.visit(i);
