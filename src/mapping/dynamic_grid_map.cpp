@@ -472,7 +472,7 @@ void DynamicGridMap::sweepFreeArea(const mrpt::poses::CPose2D& sensor) {
 DynamicGridMap::MissKernel DynamicGridMap::missKernel() {
   return {m_map.data(), dyn_.data(),  stamp_.data(), miss_s_.data(), miss_d_.data(),
           scan_stamp_,  object_cell_, &changed_,     step_s_,        step_d_,
-          simd_steps_};
+          simd_steps_,  m_map.size()};
 }
 
 #if defined(__SSE2__)
@@ -487,15 +487,17 @@ struct MissBlock {
   __m128i mark, object_cell;
   SimdStep s_step, d_step;
 
-  std::uint32_t operator()(std::size_t i) const {
+  /// `lanes`: the cells of the 16 to consider (all, or the first few of a short span, the rest
+  /// written back as they were).
+  std::uint32_t operator()(std::size_t i, __m128i lanes = _mm_set1_epi8(-1)) const {
     auto* st = reinterpret_cast<__m128i*>(k.stamp + i);
     auto* sp = reinterpret_cast<__m128i*>(k.s + i);
     auto* dp = reinterpret_cast<__m128i*>(k.d + i);
-    const __m128i fresh =
-        _mm_xor_si128(_mm_cmpeq_epi8(_mm_loadu_si128(st), mark), _mm_set1_epi8(-1));
+    const __m128i st0 = _mm_loadu_si128(st);
+    const __m128i fresh = _mm_andnot_si128(_mm_cmpeq_epi8(st0, mark), lanes);
     const int fresh_bits = _mm_movemask_epi8(fresh);
     if (fresh_bits == 0) return 0;
-    _mm_storeu_si128(st, mark);
+    _mm_storeu_si128(st, select(lanes, mark, st0));
     const __m128i s0 = _mm_loadu_si128(sp), d0 = _mm_loadu_si128(dp);
     const __m128i s1 = s_step.apply(s0), d1 = d_step.apply(d0);
     _mm_storeu_si128(sp, select(fresh, s1, s0));
@@ -518,13 +520,18 @@ std::uint32_t DynamicGridMap::MissKernel::span(std::size_t begin, std::size_t en
   std::uint32_t freed = 0;
   std::size_t i = begin;
 #if defined(__SSE2__)
-  if (k.simd && end - begin >= 16) {
+  if (k.simd && begin + 16 <= k.cells) {
     // 16 cells at a time: the miss is a saturating add clamped to the layer's range, the same
     // value the tables hold (simd is false when a step does not fit a cell). The last block
     // ends at `end`, overlapping the one before: the overlap is stamped, so it is left alone.
+    // A span shorter than a block takes its first lanes only (the grid goes on past it).
     const MissBlock<MissKernel> block{k, _mm_set1_epi8(static_cast<char>(k.mark)),
-                          _mm_set1_epi8(k.object_cell), SimdStep::of(k.s_step),
-                          SimdStep::of(k.d_step)};
+                                      _mm_set1_epi8(k.object_cell), SimdStep::of(k.s_step),
+                                      SimdStep::of(k.d_step)};
+    if (end - begin < 16) {
+      const __m128i lane = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+      return block(begin, _mm_cmplt_epi8(lane, _mm_set1_epi8(static_cast<char>(end - begin))));
+    }
     for (; i + 16 <= end; i += 16) freed += block(i);
     if (i < end) freed += block(end - 16);
     return freed;

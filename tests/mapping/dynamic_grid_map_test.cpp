@@ -391,6 +391,34 @@ TEST(DynamicGridMapScenes, ResizingSAloneThroughTheBaseNeverReadsDOutOfItsBounds
 namespace dynamap {
 namespace {
 
+TEST(DynamicGridMap, AFullCircleOfBeamsFreesEveryCellWithinItExactlyOnce) {
+  // The swept disc's rows run from a cell or two (near its top and bottom) to ~40 cells (its
+  // middle): short rows, rows of whole 16-cell blocks and rows whose last block overlaps the one
+  // before. Each cell within must take exactly one miss per scan, whichever way it was freed.
+  DynamicGridMap m = tableMap();
+  const std::vector<float> ranges(720, 2.0f);
+  const auto miss = [&](int n) {
+    return std::vector<int>{n * m.deltas().s_miss, n * m.deltas().d_miss};
+  };
+  for (int scan = 1; scan <= 2; ++scan) {
+    ASSERT_TRUE(m.insertObservation(*makeScan(ranges, 2 * M_PI - 2 * M_PI / 720), kRobot));
+    std::size_t once = 0;
+    for (int cy = 0; cy < static_cast<int>(m.getSizeY()); ++cy) {
+      for (int cx = 0; cx < static_cast<int>(m.getSizeX()); ++cx) {
+        const std::size_t i = cx + cy * m.getSizeX();
+        const std::vector<int> cell{m.getRawMap()[i], m.dynamicRaw()[i]};
+        const double r = std::hypot(m.idx2x(cx) - 0.05, m.idx2y(cy) - 0.05);
+        if (r < 1.7) {
+          ASSERT_EQ(cell, miss(scan)) << "cell " << cx << "," << cy << " after scan " << scan;
+        }
+        once += cell == miss(scan) ? 1 : 0;
+      }
+    }
+    // Every cell the scan freed was freed once: none twice, none left out of the count.
+    EXPECT_EQ(m.lastInsertStats().free_cells, once) << "scan " << scan;
+  }
+}
+
 TEST(DynamicGridMap, EveryScanUpdatesItsCellsAfterTheScanMarksWrapRound) {
   // The marks that keep a scan from updating a cell twice start again every 255 scans. A cell
   // left marked from before would be skipped: then a scan would update fewer cells than the same

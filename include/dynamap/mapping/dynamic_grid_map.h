@@ -157,6 +157,7 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
     std::vector<std::uint32_t>* changed;
     MissStep s_step, d_step;  // the tables as arithmetic, for 16 cells at a time
     bool simd;                // the steps fit a cell (else spans use the tables)
+    std::size_t cells;        // of each layer: a block of 16 must end within them
     /// Updates cell `i` as crossed, unless this scan already updated it: returns 1 if it did,
     /// else 0. Branch-free but for the rare change of state: along a beam, cells already
     /// updated (by the swept area, by a neighbouring beam) and new ones alternate unpredictably.
