@@ -50,15 +50,16 @@ inline __m128i select(__m128i mask, __m128i a, __m128i b) {
 // first changes nothing the clamp keeps, so this equals the scalar clampCell(c + delta, lo, hi).
 struct SimdStep {
   __m128i delta, lo, hi;
-  static SimdStep of(const DynamicGridMap::MissStep& m) {
-    return {_mm_set1_epi8(m.delta), _mm_set1_epi8(m.lo), _mm_set1_epi8(m.hi)};
-  }
   __m128i apply(__m128i c) const {
     const __m128i sum = _mm_adds_epi8(c, delta);
     const __m128i raised = select(_mm_cmpgt_epi8(lo, sum), lo, sum);
     return select(_mm_cmpgt_epi8(raised, hi), hi, raised);
   }
 };
+
+inline __m128i loadLanes(const cellType (&lanes)[16]) {
+  return _mm_load_si128(reinterpret_cast<const __m128i*>(lanes));
+}
 #endif
 
 }  // namespace
@@ -95,9 +96,18 @@ DynamicGridMap::DynamicGridMap(const DynamicMapOptions& options, const Insertion
   // The same updates as steps, for span()'s 16 cells at a time: only when each step fits a cell.
   const auto fits = [](int delta) { return delta >= kCellMin - 1 && delta <= kCellMax; };
   simd_steps_ = fits(deltas_.s_miss) && fits(deltas_.d_miss);
-  step_s_ = {static_cast<cellType>(simd_steps_ ? deltas_.s_miss : 0),
-             static_cast<cellType>(kCellMin), static_cast<cellType>(kCellMax)};
-  step_d_ = {static_cast<cellType>(simd_steps_ ? deltas_.d_miss : 0), d_floor_, d_ceiling_};
+  if (simd_steps_) {
+    for (int i = 0; i < 16; ++i) {
+      MissLanes& l = lanes_;
+      l.object_cell[i] = object_cell_;
+      l.s_delta[i] = static_cast<cellType>(deltas_.s_miss);
+      l.s_lo[i] = static_cast<cellType>(kCellMin);
+      l.s_hi[i] = static_cast<cellType>(kCellMax);
+      l.d_delta[i] = static_cast<cellType>(deltas_.d_miss);
+      l.d_lo[i] = d_floor_;
+      l.d_hi[i] = d_ceiling_;
+    }
+  }
   syncLayers();
 }
 
@@ -470,9 +480,10 @@ void DynamicGridMap::sweepFreeArea(const mrpt::poses::CPose2D& sensor) {
 }
 
 DynamicGridMap::MissKernel DynamicGridMap::missKernel() {
-  return {m_map.data(), dyn_.data(),  stamp_.data(), miss_s_.data(), miss_d_.data(),
-          scan_stamp_,  object_cell_, &changed_,     step_s_,        step_d_,
-          simd_steps_,  m_map.size()};
+  std::fill(std::begin(lanes_.mark), std::end(lanes_.mark), static_cast<cellType>(scan_stamp_));
+  return {m_map.data(), dyn_.data(),  stamp_.data(), miss_s_.data(),
+          miss_d_.data(), scan_stamp_, object_cell_, &changed_,
+          simd_steps_ ? &lanes_ : nullptr, m_map.size()};
 }
 
 #if defined(__SSE2__)
@@ -520,14 +531,16 @@ std::uint32_t DynamicGridMap::MissKernel::span(std::size_t begin, std::size_t en
   std::uint32_t freed = 0;
   std::size_t i = begin;
 #if defined(__SSE2__)
-  if (k.simd && begin + 16 <= k.cells) {
+  if (k.lanes != nullptr && begin + 16 <= k.cells) {
     // 16 cells at a time: the miss is a saturating add clamped to the layer's range, the same
     // value the tables hold (simd is false when a step does not fit a cell). The last block
     // ends at `end`, overlapping the one before: the overlap is stamped, so it is left alone.
     // A span shorter than a block takes its first lanes only (the grid goes on past it).
-    const MissBlock<MissKernel> block{k, _mm_set1_epi8(static_cast<char>(k.mark)),
-                                      _mm_set1_epi8(k.object_cell), SimdStep::of(k.s_step),
-                                      SimdStep::of(k.d_step)};
+    const MissLanes& l = *k.lanes;
+    const MissBlock<MissKernel> block{
+        k, loadLanes(l.mark), loadLanes(l.object_cell),
+        SimdStep{loadLanes(l.s_delta), loadLanes(l.s_lo), loadLanes(l.s_hi)},
+        SimdStep{loadLanes(l.d_delta), loadLanes(l.d_lo), loadLanes(l.d_hi)}};
     if (end - begin < 16) {
       const __m128i lane = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
       return block(begin, _mm_cmplt_epi8(lane, _mm_set1_epi8(static_cast<char>(end - begin))));

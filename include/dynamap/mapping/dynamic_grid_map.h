@@ -118,10 +118,6 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   const Deltas& deltas() const { return deltas_; }
   cellType freeThresholdCell() const { return free_cell_; }
   cellType objectThresholdCell() const { return object_cell_; }
-  /// A miss's update as arithmetic: clamp(cell + delta, lo, hi), the value its table holds.
-  struct MissStep {
-    cellType delta, lo, hi;
-  };
 
  private:
   bool internal_insertObservation(
@@ -144,6 +140,12 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   void syncLayers();
   bool hitInFreeSpace(std::size_t index) const;
   void applyHit(std::size_t index, bool in_free_space);
+  /// A miss's update as arithmetic, clamp(cell + delta, lo, hi) (the value its table holds),
+  /// and the scan's mark, each repeated over 16 lanes: loaded as they are by span()'s blocks.
+  struct alignas(16) MissLanes {
+    cellType mark[16], object_cell[16];
+    cellType s_delta[16], s_lo[16], s_hi[16], d_delta[16], d_lo[16], d_hi[16];
+  };
   /// The miss update with everything it needs in locals: cells are int8, which may alias any
   /// member, so a loop over members would reload them at every cell.
   struct MissKernel {
@@ -155,9 +157,10 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
     std::uint8_t mark;
     cellType object_cell;
     std::vector<std::uint32_t>* changed;
-    MissStep s_step, d_step;  // the tables as arithmetic, for 16 cells at a time
-    bool simd;                // the steps fit a cell (else spans use the tables)
-    std::size_t cells;        // of each layer: a block of 16 must end within them
+    /// The tables as arithmetic for span()'s blocks of 16 cells; nullptr when a step does not
+    /// fit a cell (then spans use the tables).
+    const MissLanes* lanes;
+    std::size_t cells;  // of each layer: a block of 16 must end within them
     /// Updates cell `i` as crossed, unless this scan already updated it: returns 1 if it did,
     /// else 0. Branch-free but for the rare change of state: along a beam, cells already
     /// updated (by the swept area, by a neighbouring beam) and new ones alternate unpredictably.
@@ -211,8 +214,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   std::vector<std::uint32_t> changed_;
   ScanInsertStats last_stats_;
   std::array<cellType, 256> miss_s_{}, miss_d_{};  // a miss's update, by the cell's bits
-  MissStep step_s_{}, step_d_{};                   // the same as arithmetic
-  bool simd_steps_ = false;                        // both steps fit a cell
+  MissLanes lanes_{};         // the same as arithmetic, and the scan's mark
+  bool simd_steps_ = false;  // both steps fit a cell: lanes_ holds them
 
   // Per-scan scratch, kept to avoid reallocations.
   enum RayKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
