@@ -57,6 +57,15 @@ struct SimdStep {
   }
 };
 
+// The bits set in a 16-bit mask, in a few instructions: without -mpopcnt (x86-64's baseline
+// has no POPCNT) __builtin_popcount is a call into libgcc.
+inline std::uint32_t popcount16(std::uint32_t x) {
+  x = x - ((x >> 1) & 0x5555u);
+  x = (x & 0x3333u) + ((x >> 2) & 0x3333u);
+  x = (x + (x >> 4)) & 0x0F0Fu;
+  return (x + (x >> 8)) & 0x1Fu;
+}
+
 inline __m128i loadLanes(const cellType (&lanes)[16]) {
   return _mm_load_si128(reinterpret_cast<const __m128i*>(lanes));
 }
@@ -519,7 +528,7 @@ struct MissBlock {
     for (int bits = _mm_movemask_epi8(left); bits != 0; bits &= bits - 1) {
       k.changed->push_back(static_cast<std::uint32_t>(i + __builtin_ctz(bits)));
     }
-    return static_cast<std::uint32_t>(__builtin_popcount(fresh_bits));
+    return popcount16(static_cast<std::uint32_t>(fresh_bits));
   }
 };
 
