@@ -46,13 +46,9 @@ AlignFn loadAlign() {
                            " (built beside the dynamap executable), which did not load:" + errors);
 }
 
-}  // namespace
-
-mrpt::poses::CPose2D icpAlignModule(const mrpt::maps::CSimplePointsMap& reference,
-                                    const mrpt::maps::CSimplePointsMap& scan,
-                                    const mrpt::poses::CPose2D& start, const IcpParams& params,
-                                    unsigned& iterations) {
-  // Loaded once per process; a failure is remembered and thrown again at every call.
+// The module's entry point, loaded once per process; a failure is remembered and thrown again
+// at every call.
+AlignFn alignFunction() {
   static std::once_flag once;
   static AlignFn align = nullptr;
   static std::string load_error;
@@ -64,6 +60,18 @@ mrpt::poses::CPose2D icpAlignModule(const mrpt::maps::CSimplePointsMap& referenc
     }
   });
   if (align == nullptr) throw std::runtime_error(load_error);
+  return align;
+}
+
+}  // namespace
+
+void requireIcpModule() { alignFunction(); }
+
+mrpt::poses::CPose2D icpAlignModule(const mrpt::maps::CSimplePointsMap& reference,
+                                    const mrpt::maps::CSimplePointsMap& scan,
+                                    const mrpt::poses::CPose2D& start, const IcpParams& params,
+                                    unsigned& iterations) {
+  const AlignFn align = alignFunction();
   mrpt::poses::CPose2D out;
   std::string error;
   if (align(&reference, &scan, &start, &params, &out, &iterations, &error) == 0) {

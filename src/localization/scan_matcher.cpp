@@ -344,6 +344,7 @@ void ScanMatchOptions::dumpToTextStream(std::ostream& out) const {
 
 ScanMatcher::ScanMatcher(const ScanMatchOptions& options) : options_(options) {
   options_.validate("scan matching options");
+  requireIcpModule();  // a missing module stops the run before its first scan, not at it
 }
 
 namespace {

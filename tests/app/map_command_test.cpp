@@ -140,6 +140,23 @@ TEST_F(MapCommand, PosesTxtHoldsThePoseOfEveryScan) {
   EXPECT_EQ(n, 301u);
 }
 
+// dynamap copied away from build/ without libdynamap_icp.so: runs that match no scan work, and
+// one that does stops before its first scan with an error naming the module.
+TEST(MapCommandIcpModule, WithoutTheModuleOnlyScanMatchingFailsAndSaysWhy) {
+  const std::string dir = test::tempDir("map-no-icp");
+  const std::string exe = dir + "/dynamap";
+  fs::copy_file(kExe, exe);
+  fs::permissions(exe, fs::perms::owner_all);
+  const std::string ok = dir + "/gt", sm = dir + "/sm";
+  std::string log;
+  EXPECT_EQ(test::run(exe + " map --no-baseline --input " + kTiny + " --out " + ok, &log), 0)
+      << log;
+  EXPECT_NE(test::run(exe + " map --poses scan_matching --no-baseline --input " + kTiny +
+                          " --out " + sm, &log), 0);
+  EXPECT_NE(log.find("scan matching needs libdynamap_icp.so"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(sm + "/summary.json"));
+}
+
 // --poses scan_matching: the odometry corrected against S, counted in summary.json, the same
 // bytes when run again; in the tiny room its heading is better than the odometry's and its
 // position within a cell of the truth (the odometry drifts only 3 cm in this minute).

@@ -20,6 +20,10 @@ struct IcpParams {
   double smallest_threshold_dist = 0;  ///< [m] where shrinking stops
 };
 
+/// Loads the module now if it is not loaded yet; throws std::runtime_error naming it (and where
+/// it was looked for) when it cannot be.
+void requireIcpModule();
+
 /// The pose that ICP aligns `scan` onto `reference` at, starting from `start`; `iterations` gets
 /// CICP's count. Throws std::runtime_error naming the module when it cannot be loaded.
 mrpt::poses::CPose2D icpAlignModule(const mrpt::maps::CSimplePointsMap& reference,
