@@ -12,7 +12,9 @@ ReadAheadSource::ReadAheadSource(std::unique_ptr<ScanSource> inner, std::size_t 
   reader_ = std::thread([this] { readLoop(); });
 }
 
-ReadAheadSource::~ReadAheadSource() { stop(); }
+ReadAheadSource::~ReadAheadSource() {
+  stop();
+}
 
 void ReadAheadSource::readLoop() {
   while (true) {
@@ -75,6 +77,9 @@ void ReadAheadSource::stop() const {
   }
   changed_.notify_all();
   if (reader_.joinable()) reader_.join();
+  // Stopped early, the reader queues nothing more: next() must not wait for it.
+  std::lock_guard<std::mutex> lock(mutex_);
+  ended_ = true;
 }
 
 const SourceStats& ReadAheadSource::stats() const {

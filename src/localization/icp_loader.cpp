@@ -41,6 +41,7 @@ AlignFn loadAlign() {
     }
     if (void* fn = ::dlsym(handle, "dynamap_icp_align")) return reinterpret_cast<AlignFn>(fn);
     errors += "\n  " + candidate + ": no dynamap_icp_align";
+    ::dlclose(handle);
   }
   throw std::runtime_error(std::string("scan matching needs ") + kModule +
                            " (built beside the dynamap executable), which did not load:" + errors);
@@ -65,7 +66,9 @@ AlignFn alignFunction() {
 
 }  // namespace
 
-void requireIcpModule() { alignFunction(); }
+void requireIcpModule() {
+  alignFunction();
+}
 
 mrpt::poses::CPose2D icpAlignModule(const mrpt::maps::CSimplePointsMap& reference,
                                     const mrpt::maps::CSimplePointsMap& scan,

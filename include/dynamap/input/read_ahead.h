@@ -34,7 +34,8 @@ class ReadAheadSource : public ScanSource {
   /// The inner source's fraction when it had read the scan next() returned last.
   double fractionRead() const override { return fraction_; }
   /// stats() and poseDetail() stop the reader first (they are the inner source's, which the
-  /// reader changes): call them once next() has returned false or thrown, as a run does.
+  /// reader changes): call them once next() has returned false or thrown, as a run does. Called
+  /// earlier, next() then gives the scans already queued and returns false.
   const SourceStats& stats() const override;
   std::string poseDetail() const override;
 
@@ -54,12 +55,12 @@ class ReadAheadSource : public ScanSource {
 
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
-  std::deque<Item> queue_;          // read, not yet taken
-  bool ended_ = false;              // the reader is done: queue_ is all there is
-  std::exception_ptr error_;        // what ended it, if the inner source threw
-  mutable bool stopping_ = false;   // asked to stop early
-  bool reader_waiting_ = false;     // the reader waits for room
-  bool taker_waiting_ = false;      // next() waits for a scan
+  std::deque<Item> queue_;         // read, not yet taken
+  mutable bool ended_ = false;     // the reader is done: queue_ is all there is
+  std::exception_ptr error_;       // what ended it, if the inner source threw
+  mutable bool stopping_ = false;  // asked to stop early
+  bool reader_waiting_ = false;    // the reader waits for room
+  bool taker_waiting_ = false;     // next() waits for a scan
   mutable std::thread reader_;
 };
 
