@@ -109,8 +109,8 @@ DynamicGridMap::DynamicGridMap(const DynamicMapOptions& options, const Insertion
   const auto fits = [](int delta) { return delta >= kCellMin - 1 && delta <= kCellMax; };
   simd_steps_ = fits(deltas_.s_miss) && fits(deltas_.d_miss);
   if (simd_steps_) {
+    MissLanes& l = lanes_;
     for (int i = 0; i < 16; ++i) {
-      MissLanes& l = lanes_;
       l.object_cell[i] = object_cell_;
       l.s_delta[i] = static_cast<cellType>(deltas_.s_miss);
       l.s_lo[i] = static_cast<cellType>(kCellMin);
@@ -191,7 +191,7 @@ float DynamicGridMap::staticOccupancy(int cx, int cy) const {
 DynamicGridMap::CellCounts DynamicGridMap::countCells() const {
   CellCounts c;
   for (std::size_t i = 0; i < m_map.size(); ++i) {
-    if (m_map[i] < 0) ++c.static_occupied;
+    if (isOccupiedValue(m_map[i])) ++c.static_occupied;
     if (m_map[i] >= free_cell_) ++c.static_free;
   }
   for (const cellType d : dyn_) c.dynamic_occupied += d < object_cell_ ? 1 : 0;
@@ -229,7 +229,7 @@ bool DynamicGridMap::hitInFreeSpace(std::size_t index) const {
   const int cx = static_cast<int>(index % m_size_x), cy = static_cast<int>(index / m_size_x);
   for (int y = std::max(0, cy - g); y <= std::min<int>(m_size_y - 1, cy + g); ++y) {
     for (int x = std::max(0, cx - g); x <= std::min<int>(m_size_x - 1, cx + g); ++x) {
-      if (m_map[x + static_cast<std::size_t>(y) * m_size_x] < 0) return false;
+      if (isOccupiedValue(m_map[x + static_cast<std::size_t>(y) * m_size_x])) return false;
     }
   }
   return true;
@@ -493,9 +493,10 @@ void DynamicGridMap::sweepFreeArea(const mrpt::poses::CPose2D& sensor) {
 
 DynamicGridMap::MissKernel DynamicGridMap::missKernel() {
   std::fill(std::begin(lanes_.mark), std::end(lanes_.mark), static_cast<cellType>(scan_stamp_));
-  return {m_map.data(), dyn_.data(),  stamp_.data(), miss_s_.data(),
-          miss_d_.data(), scan_stamp_, object_cell_, &changed_,
-          simd_steps_ ? &lanes_ : nullptr, m_map.size()};
+  return {m_map.data(),   dyn_.data(),    stamp_.data(),
+          miss_s_.data(), miss_d_.data(), scan_stamp_,
+          object_cell_,   &changed_,      simd_steps_ ? &lanes_ : nullptr,
+          m_map.size()};
 }
 
 #if defined(__SSE2__)
@@ -551,20 +552,21 @@ __attribute__((target("avx2,popcnt"))) inline std::uint32_t missBlock32(
   auto* st = reinterpret_cast<__m256i*>(stamp + i);
   auto* sp = reinterpret_cast<__m256i*>(s + i);
   auto* dp = reinterpret_cast<__m256i*>(d + i);
-  const __m256i fresh = _mm256_xor_si256(_mm256_cmpeq_epi8(_mm256_loadu_si256(st), c[kMark]),
-                                         _mm256_set1_epi8(-1));
+  const __m256i fresh =
+      _mm256_xor_si256(_mm256_cmpeq_epi8(_mm256_loadu_si256(st), c[kMark]), _mm256_set1_epi8(-1));
   const auto fresh_bits = static_cast<std::uint32_t>(_mm256_movemask_epi8(fresh));
   if (fresh_bits == 0) return 0;
   _mm256_storeu_si256(st, c[kMark]);
   const __m256i s0 = _mm256_loadu_si256(sp), d0 = _mm256_loadu_si256(dp);
-  const __m256i s1 = _mm256_min_epi8(
-      _mm256_max_epi8(_mm256_adds_epi8(s0, c[kSDelta]), c[kSLo]), c[kSHi]);
-  const __m256i d1 = _mm256_min_epi8(
-      _mm256_max_epi8(_mm256_adds_epi8(d0, c[kDDelta]), c[kDLo]), c[kDHi]);
+  const __m256i s1 =
+      _mm256_min_epi8(_mm256_max_epi8(_mm256_adds_epi8(s0, c[kSDelta]), c[kSLo]), c[kSHi]);
+  const __m256i d1 =
+      _mm256_min_epi8(_mm256_max_epi8(_mm256_adds_epi8(d0, c[kDDelta]), c[kDLo]), c[kDHi]);
   _mm256_storeu_si256(sp, _mm256_blendv_epi8(s0, s1, fresh));
   _mm256_storeu_si256(dp, _mm256_blendv_epi8(d0, d1, fresh));
-  const __m256i left = _mm256_andnot_si256(
-      _mm256_cmpgt_epi8(c[kObject], d1), _mm256_and_si256(fresh, _mm256_cmpgt_epi8(c[kObject], d0)));
+  const __m256i left =
+      _mm256_andnot_si256(_mm256_cmpgt_epi8(c[kObject], d1),
+                          _mm256_and_si256(fresh, _mm256_cmpgt_epi8(c[kObject], d0)));
   for (auto bits = static_cast<std::uint32_t>(_mm256_movemask_epi8(left)); bits != 0;
        bits &= bits - 1) {
     changed.push_back(static_cast<std::uint32_t>(i + __builtin_ctz(bits)));
@@ -574,9 +576,11 @@ __attribute__((target("avx2,popcnt"))) inline std::uint32_t missBlock32(
 
 // A span of at least 32 cells in blocks of 32, the last overlapping the one before.
 template <typename Lanes>
-__attribute__((target("avx2,popcnt"))) std::uint32_t spanAvx2(
-    cellType* s, cellType* d, std::uint8_t* stamp, std::vector<std::uint32_t>& changed,
-    const Lanes& l, std::size_t begin, std::size_t end) {
+__attribute__((target("avx2,popcnt"))) std::uint32_t spanAvx2(cellType* s, cellType* d,
+                                                              std::uint8_t* stamp,
+                                                              std::vector<std::uint32_t>& changed,
+                                                              const Lanes& l, std::size_t begin,
+                                                              std::size_t end) {
   const cellType* rows[8] = {l.mark, l.object_cell, l.s_delta, l.s_lo,
                              l.s_hi, l.d_delta,     l.d_lo,    l.d_hi};
   __m256i c[8];
@@ -605,12 +609,13 @@ std::uint32_t DynamicGridMap::MissKernel::span(std::size_t begin, std::size_t en
 #if defined(__SSE2__)
   if (k.lanes != nullptr && begin + 16 <= k.cells) {
     // 16 cells at a time: the miss is a saturating add clamped to the layer's range, the same
-    // value the tables hold (simd is false when a step does not fit a cell). The last block
+    // value the tables hold (lanes is null when a step does not fit a cell). The last block
     // ends at `end`, overlapping the one before: the overlap is stamped, so it is left alone.
     // A span shorter than a block takes its first lanes only (the grid goes on past it).
     const MissLanes& l = *k.lanes;
 #if defined(DYNAMAP_AVX2_SPANS)
-    if (end - begin >= 32 && hasAvx2()) return spanAvx2(k.s, k.d, k.stamp, *k.changed, l, begin, end);
+    if (end - begin >= 32 && hasAvx2())
+      return spanAvx2(k.s, k.d, k.stamp, *k.changed, l, begin, end);
 #endif
     const MissBlock<MissKernel> block{
         k, loadLanes(l.mark), loadLanes(l.object_cell),

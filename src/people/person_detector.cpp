@@ -288,7 +288,8 @@ bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
       const DynamicGridMap::cellType* row = map.getRow(y + dy);
       if (row == nullptr) continue;
       for (int dx = std::max(-2, -x); dx <= 2 && x + dx < size_x; ++dx) {
-        if (row[x + dx] < 0 && seen.insert(x + dx, y + dy)) todo.emplace_back(x + dx, y + dy);
+        if (DynamicGridMap::isOccupiedValue(row[x + dx]) && seen.insert(x + dx, y + dy))
+          todo.emplace_back(x + dx, y + dy);
       }
     }
   }

@@ -151,8 +151,10 @@ TEST(MapCommandIcpModule, WithoutTheModuleOnlyScanMatchingFailsAndSaysWhy) {
   std::string log;
   EXPECT_EQ(test::run(exe + " map --no-baseline --input " + kTiny + " --out " + ok, &log), 0)
       << log;
-  EXPECT_NE(test::run(exe + " map --poses scan_matching --no-baseline --input " + kTiny +
-                          " --out " + sm, &log), 0);
+  EXPECT_NE(
+      test::run(exe + " map --poses scan_matching --no-baseline --input " + kTiny + " --out " + sm,
+                &log),
+      0);
   EXPECT_NE(log.find("scan matching needs libdynamap_icp.so"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(sm + "/summary.json"));
 }

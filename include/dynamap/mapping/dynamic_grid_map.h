@@ -86,8 +86,10 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   /// outside the grid. Inline: the people detector asks it for every cell around a detection.
   bool isStaticOccupied(int cx, int cy) const {
     if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return false;
-    return m_map[cx + static_cast<std::size_t>(cy) * m_size_x] < 0;
+    return isOccupiedValue(m_map[cx + static_cast<std::size_t>(cy) * m_size_x]);
   }
+  /// isStaticOccupied's test of one raw S value (a cell of getRow(), say).
+  static constexpr bool isOccupiedValue(cellType cell) { return cell < 0; }
   /// D cell above object_threshold.
   bool isObjectCell(int cx, int cy) const {
     if (static_cast<unsigned>(cx) >= layer_size_x_ || static_cast<unsigned>(cy) >= layer_size_y_)
