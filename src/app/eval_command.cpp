@@ -198,7 +198,8 @@ void keepTableRows(const fs::path& objects_csv, std::vector<TrackRow>& rows,
              rows.end());
   if (!dropped.empty()) {
     notes.push_back(std::to_string(dropped.size()) +
-                    " object(s) of tracks.csv withdrawn as people (not in objects.csv): ignored");
+                    " object(s) of tracks.csv not in objects.csv (withdrawn as people, or provisional "
+                    "reports relabeled or retracted): ignored");
   }
 }
 

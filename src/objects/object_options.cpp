@@ -20,8 +20,12 @@ const OptionTable<ObjectOptions>& ObjectOptions::table() {
            "smaller estimated sizes are noise"},
           {"max_size", &O::max_size, Range::openClosed(0, 20), "m",
            "larger clusters are not objects"},
+          {"report_scans", &O::report_scans, Range::closed(1, 1000), "",
+           "scans a new cluster must last to be reported, provisionally"},
+          {"outline_jump", &O::outline_jump, Range::openClosed(0, 5), "m",
+           "range step that ends an object's outline in a scan"},
           {"confirm_scans", &O::confirm_scans, Range::closed(1, 1000), "",
-           "scans a new cluster must last to be reported"},
+           "scans a reported cluster must last for its identity to be final"},
           {"settle_size", &O::settle_size, Range::closed(0, 1), "m",
            "...with its size changing no more than this from scan to scan"},
           {"wall_hug_distance", &O::wall_hug_distance, Range::closed(0, 1), "m",
@@ -59,6 +63,9 @@ void ObjectOptions::load(const IniFile& ini) {
 void ObjectOptions::validate(const std::string& src) const {
   table().checkRanges(*this, src);
   if (!(min_size < max_size)) rejectValue(src, kSection, "min_size", "must be below max_size");
+  if (report_scans > confirm_scans) {
+    rejectValue(src, kSection, "report_scans", "must not exceed confirm_scans");
+  }
 }
 
 void ObjectOptions::writeIni(std::ostream& out) const {

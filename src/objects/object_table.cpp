@@ -10,6 +10,10 @@ const char* toString(ObjectState s) {
       return "absent";
     case ObjectState::Withdrawn:
       return "withdrawn";
+    case ObjectState::Relabeled:
+      return "relabeled";
+    case ObjectState::Retracted:
+      return "retracted";
   }
   return "?";
 }
@@ -26,6 +30,10 @@ const char* toString(ObjectEvent e) {
       return "reappeared";
     case ObjectEvent::Withdrawn:
       return "withdrawn";
+    case ObjectEvent::Relabeled:
+      return "relabeled";
+    case ObjectEvent::Retracted:
+      return "retracted";
   }
   return "?";
 }

@@ -29,9 +29,11 @@ void ObjectTracker::update(const DynamicGridMap& map, const ScanView& view, doub
   dropLostTracks(t, scan_index);
   // 4. Places left by unseen moves: seen free ends them, seen occupied revives them.
   checkStalePlaces(view, t, scan_index);
-  // 5. Clusters that lasted confirm_scans get an identity by size: new, moved, reappeared.
+  // 5. Reported clusters whose size has settled: their identity is judged again.
+  reviewReports(view, t, scan_index);
+  // 6. Clusters that lasted report_scans get an identity by size: new, moved, reappeared.
   confirmTentatives(view, t, scan_index);
-  // 6. Present objects that drifted (a person walking) moved; refresh the table.
+  // 7. Present objects that drifted (a person walking) moved; refresh the table.
   checkDrift(t, scan_index);
   updateLastSeen(view, t);
 }
@@ -227,13 +229,18 @@ void ObjectTracker::dropLostTracks(double t, std::size_t scan_index) {
     if (it == tracks_.end() || !it->second.cells.empty()) continue;
     const Track& tr = it->second;
     // Cells fade only under beams that crossed them: the place was in view and seen free.
-    if (const Confirmed* c = tr.confirmed()) {
+    if (const Confirmed* c = tr.confirmed(); c && c->review) {
+      // Seen empty before its size settled: the report is withdrawn.
+      emit(t, scan_index, object(c->id), ObjectEvent::Retracted);
+      undoClaim(key, ObjectState::Retracted, t, scan_index);
+    } else if (c) {
       TrackedObject& o = object(c->id);
       o.state = ObjectState::Absent;
       o.vanished_t = t;
       emit(t, scan_index, o, ObjectEvent::Disappeared);
     }
     pending_.erase(key);
+    reviewing_.erase(key);
     tracks_.erase(it);
   }
 }
@@ -265,6 +272,7 @@ void ObjectTracker::revive(Track& place, Track& took, double t, std::size_t scan
   const int id = st.object_id;
   const int other = newObject(t);
   took.confirmed()->id = other;  // its shape moves with it, to its new row
+  if (took.confirmed()->review) took.confirmed()->review->claimed = false;  // a new object
   TrackedObject& o2 = object(other);
   o2.shape = object(id).shape;
   o2.last_seen_t = object(id).last_seen_t;
@@ -276,7 +284,7 @@ void ObjectTracker::revive(Track& place, Track& took, double t, std::size_t scan
   o.state = ObjectState::Present;
   o.last_seen_t = t;
   o.history.push_back({t, o.shape.cx, o.shape.cy});
-  place.state = Confirmed{id, st.shape.cx, st.shape.cy, st.best_cells};
+  place.state = Confirmed{id, st.shape.cx, st.shape.cy, st.best_cells, std::nullopt};
   emit(t, scan_index, o, ObjectEvent::Reappeared);
 }
 
@@ -292,12 +300,12 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
     }
     const Track& tr = it->second;
     if (!passesFilters(tr, tent->shape, options_)) {
-      tent->passes = 0;
+      tent->restart();
       pending_.erase(key);
       continue;
     }
     if (nearKeepOut(tent->shape)) {  // a person there now: judged again once they have left
-      tent->passes = 0;
+      tent->restart();
       tent->kept_out = true;
       pending_.insert(key);
       continue;
@@ -310,7 +318,10 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
     const bool settled = std::abs(tent->shape.size - tent->last_size) <= options_.settle_size;
     tent->last_size = tent->shape.size;
     tent->passes = settled ? tent->passes + 1 : 1;
-    if (tent->passes >= options_.confirm_scans && confirm(key, view, t, scan_index)) {
+    double outline = 0, gap = 0;
+    if (measureOutline(view, key, tent->shape, outline, gap)) tent->addOutline(outline, gap);
+    if (tent->passes < options_.confirm_scans && tent->outlines < options_.report_scans) continue;
+    if (confirm(key, view, t, scan_index)) {
       pending_.erase(key);
     }
   }
@@ -325,12 +336,11 @@ int ObjectTracker::newObject(double t) {
   return o.id;
 }
 
-void ObjectTracker::identityCandidates(const ShapeEstimate& s, int exclude_id,
-                                       const ScanView& view, double t,
-                                       std::vector<IdentityCandidate>& cands,
+void ObjectTracker::identityCandidates(const ShapeEstimate& s, int exclude_id, const ScanView& view,
+                                       double t, std::vector<IdentityCandidate>& cands,
                                        std::vector<int>& ids) const {
   for (const TrackedObject& o : objects_) {
-    if (o.id == exclude_id || o.state == ObjectState::Withdrawn) continue;
+    if (o.id == exclude_id || !listedInTable(o.state) || underReview(o.id)) continue;
     const bool absent = o.state == ObjectState::Absent;
     const double dist = std::hypot(o.shape.cx - s.cx, o.shape.cy - s.cy);
     // A present object right here would have been followed, not re-found.
@@ -346,25 +356,62 @@ void ObjectTracker::identityCandidates(const ShapeEstimate& s, int exclude_id,
   }
 }
 
-bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t scan_index) {
-  Track& tr = tracks_[key];
-  const Tentative tent = *tr.tentative();
+int ObjectTracker::pickIdentity(const ShapeEstimate& s, int exclude_id, double slack,
+                                const ScanView& view, double t) const {
   std::vector<IdentityCandidate> cands;
   std::vector<int> ids;
-  const ShapeEstimate& s = tent.shape;
-  identityCandidates(s, tent.exclude_id, view, t, cands, ids);
+  identityCandidates(s, exclude_id, view, t, cands, ids);
   const int pick = chooseIdentity(s, t, cands, options_);
+  if (slack > 0) {
+    // The choice must hold for any size within two errors of this one. Each candidate's cost
+    // is linear in the size on either side of its own, so the pairwise order changes
+    // monotonically with it: the pick at both ends and at the middle is the pick throughout.
+    for (const double sign : {-2.0, 2.0}) {
+      ShapeEstimate end = s;
+      end.size += sign * slack;
+      if (chooseIdentity(end, t, cands, options_) != pick) return -1;
+    }
+  }
+  return pick < 0 ? 0 : ids[static_cast<std::size_t>(pick)];
+}
+
+bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t scan_index) {
+  const Tentative tent = *tracks_[key].tentative();
+  const bool final = tent.passes >= options_.confirm_scans;
+  // Before confirm_scans, only a scan that shows the object whole tells its size well enough,
+  // and then only a choice that its error could not change.
+  ShapeEstimate s = tent.shape;
+  double error = -1;
+  if (!final) {  // the size its outline shows
+    s.size = tent.outlineSize();
+    error = tent.outlineError();
+  }
+  int id = pickIdentity(s, tent.exclude_id, error, view, t);
+  if (id < 0) return false;
+  // Only an object still shown at a place out of sight fits: wait until that place is seen
+  // (free: it moved here; occupied: this is another object), for at most defer_s.
+  if (id && object(id).state == ObjectState::Present && t - tent.first_t < options_.defer_s) {
+    if (final) return false;
+    id = 0;  // reported as new meanwhile; the review decides
+  }
+  std::optional<Review> review;
+  if (!final) {
+    review = Review{tent.passes, tent.last_size, tent.first_t, tent.exclude_id, false, {}};
+    reviewing_.insert(key);
+  }
+  claim(key, id, s, std::move(review), t, scan_index);
+  return true;
+}
+
+void ObjectTracker::claim(int key, int id, const ShapeEstimate& s, std::optional<Review> review,
+                          double t, std::size_t scan_index) {
   ObjectEvent ev = ObjectEvent::New;
-  int id = 0;
-  if (pick < 0) {
+  if (!id) {
     id = newObject(t);
   } else {
-    id = ids[static_cast<std::size_t>(pick)];
     TrackedObject& o = object(id);
+    if (review) review->claimed = true, review->before = o;
     const bool present = o.state == ObjectState::Present;
-    // Only an object still shown at a place out of sight fits: wait until that place is seen
-    // (free: it moved here; occupied: this is another object), for at most defer_s.
-    if (present && t - tent.first_t < options_.defer_s) return false;
     // Its old place was not seen vacated: keep those cells as a stale place to check.
     if (present) leavePlace(id, key);
     const double dist = std::hypot(o.shape.cx - s.cx, o.shape.cy - s.cy);
@@ -372,14 +419,123 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
     ev = back ? ObjectEvent::Reappeared : ObjectEvent::Moved;
     if (ev == ObjectEvent::Moved) ++o.n_moves;
   }
-  tr.state = Confirmed{id, s.cx, s.cy, s.cells};
+  tracks_[key].state = Confirmed{id, s.cx, s.cy, s.cells, std::move(review)};
   TrackedObject& o = object(id);
   o.shape = s;
   o.state = ObjectState::Present;
   o.last_seen_t = t;
   o.history.push_back({t, o.shape.cx, o.shape.cy});
   emit(t, scan_index, o, ev);
-  return true;
+}
+
+void ObjectTracker::reviewReports(const ScanView& view, double t, std::size_t scan_index) {
+  const std::vector<int> keys(reviewing_.begin(), reviewing_.end());
+  for (const int key : keys) {
+    const auto it = tracks_.find(key);
+    Confirmed* c = it == tracks_.end() ? nullptr : it->second.confirmed();
+    if (!c || !c->review) {
+      reviewing_.erase(key);
+      continue;
+    }
+    Review& r = *c->review;
+    const ShapeEstimate& s = object(c->id).shape;
+    if (!passesFilters(it->second, s, options_) || nearKeepOut(s)) {
+      r.passes = 0;
+      continue;
+    }
+    const bool settled = std::abs(s.size - r.last_size) <= options_.settle_size;
+    r.last_size = s.size;
+    r.passes = settled ? r.passes + 1 : 1;
+    if (r.passes >= options_.confirm_scans) settle(key, view, t, scan_index);
+  }
+}
+
+void ObjectTracker::settle(int key, const ScanView& view, double t, std::size_t scan_index) {
+  Confirmed& c = *tracks_[key].confirmed();
+  const Review r = *c.review;
+  const int current = c.id;
+  const ShapeEstimate s = object(current).shape;
+  // The table as it would be without this report: the claimed object's row as it was, or no
+  // row for a new one.
+  const TrackedObject now = object(current);
+  if (r.claimed) {
+    object(current) = r.before;
+  } else {
+    object(current).state = ObjectState::Relabeled;
+  }
+  reviewing_.erase(key);  // its own claim is no obstacle
+  const int id = pickIdentity(s, r.exclude_id, -1, view, t);
+  object(current) = now;
+  const bool wait = id && id != current && object(id).state == ObjectState::Present &&
+                    t - r.first_t < options_.defer_s;
+  if (wait || id == (r.claimed ? current : 0)) {
+    if (wait)
+      reviewing_.insert(key);
+    else
+      c.review.reset();  // the identity stands
+    return;
+  }
+  undoClaim(key, ObjectState::Relabeled, t, scan_index);
+  claim(key, id, s, std::nullopt, t, scan_index);
+  EventRecord e = events_.back();
+  e.event = ObjectEvent::Relabeled;
+  e.from_id = current;
+  events_.push_back(e);
+}
+
+void ObjectTracker::undoClaim(int key, ObjectState hidden, double t, std::size_t scan_index) {
+  Confirmed& c = *tracks_[key].confirmed();
+  const Review r = *c.review;
+  TrackedObject& o = object(c.id);
+  c.review.reset();
+  if (!r.claimed) {
+    o.state = hidden;
+    return;
+  }
+  o = r.before;
+  if (o.state != ObjectState::Present) return;
+  // The place it left for this report is its place again, unless that was seen empty since.
+  for (auto& kv : tracks_) {
+    const Stale* st = kv.second.stale();
+    if (!st || st->object_id != o.id || st->moved_to != key) continue;
+    o.shape = st->shape;
+    kv.second.state = Confirmed{o.id, st->shape.cx, st->shape.cy, st->best_cells, std::nullopt};
+    return;
+  }
+  o.state = ObjectState::Absent;
+  o.vanished_t = t;
+  emit(t, scan_index, o, ObjectEvent::Disappeared);
+}
+
+bool ObjectTracker::measureOutline(const ScanView& view, int key, const ShapeEstimate& s,
+                                   double& size, double& gap) const {
+  const auto b = beam_on_.find(key);
+  if (b == beam_on_.end()) return false;
+  const BeamRun run = beamRunAround(view, b->second, options_.outline_jump);
+  if (!run.whole()) return false;
+  std::vector<double> xs, ys;
+  for (std::size_t i = run.first; i <= run.last; ++i) {
+    xs.push_back(0);
+    ys.push_back(0);
+    hitPoint(view, i, xs.back(), ys.back());
+  }
+  gap = view.ranges[b->second] * std::abs(view.step);
+  ShapeEstimate outline;
+  ObjectOptions few = options_;  // an outline of a small object has few points
+  few.min_fit_cells = 3;
+  if (!estimatePointShape(xs, ys, gap, view.x, view.y, few, outline)) outline.size = gap;
+  size = outline.size;
+  // The outline is this object's: no larger than an object, and holding its cells.
+  const double off = std::hypot(outline.cx - s.cx, outline.cy - s.cy);
+  return size <= options_.max_size && s.size <= size + gap && off <= 0.5 * size + resolution_;
+}
+
+bool ObjectTracker::underReview(int id) const {
+  for (const int key : reviewing_) {
+    const auto it = tracks_.find(key);
+    if (it != tracks_.end() && it->second.objectId() == id) return true;
+  }
+  return false;
 }
 
 void ObjectTracker::leavePlace(int id, int moved_to) {
@@ -402,6 +558,11 @@ void ObjectTracker::checkDrift(double t, std::size_t scan_index) {
     Confirmed* c = tr.confirmed();
     if (!c || tr.cells.empty()) continue;
     TrackedObject& o = object(c->id);
+    if (c->review) {  // still being measured: its centre moves as more of it is seen
+      c->anchor_x = o.shape.cx;
+      c->anchor_y = o.shape.cy;
+      continue;
+    }
     if (std::hypot(o.shape.cx - c->anchor_x, o.shape.cy - c->anchor_y) > options_.move_distance) {
       c->anchor_x = o.shape.cx;
       c->anchor_y = o.shape.cy;
@@ -431,6 +592,7 @@ bool ObjectTracker::onObjectCell(const DynamicGridMap& map, double x, double y) 
 }
 
 void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& view) {
+  beam_on_.clear();
   if (view.empty() || owner_.empty()) return;
   const double bin = 0.01;  // [m] one point kept per bin: the latest
   std::set<int> fed;
@@ -458,6 +620,7 @@ void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& vie
         cellKey(static_cast<int>(std::floor(x / bin)), static_cast<int>(std::floor(y / bin)));
     Track& tr = tracks_[it->second];
     if (shapeOf(tr).length > options_.max_size) continue;  // a wall: no finer size needed
+    beam_on_.emplace(it->second, i);
     auto& points = tr.points;
     const bool fresh = points.find(b) == points.end();
     points[b] = {x, y, r * std::abs(view.step), cell};

@@ -83,4 +83,44 @@ PlaceView viewOf(const ScanView& v, double cx, double cy, double r, double margi
   return PlaceView::NotInView;
 }
 
+namespace {
+
+bool hasHit(const ScanView& v, long i) {
+  return v.ranges[static_cast<std::size_t>(i)] >= 0 &&
+         v.ranges[static_cast<std::size_t>(i)] < v.max_range;
+}
+
+// Extends the run from `from` one way (`dir` = ±1); true when its end is an outline edge.
+bool extendRun(const ScanView& v, long from, long dir, double jump, long& end) {
+  const long n = static_cast<long>(v.ranges.size());
+  end = from;
+  for (long i = from + dir; i >= 0 && i < n; i += dir) {
+    if (!hasHit(v, i)) return true;  // no echo beside it: seen against nothing
+    const double step =
+        v.ranges[static_cast<std::size_t>(i)] - v.ranges[static_cast<std::size_t>(end)];
+    if (step > jump) return true;    // the next beam passes behind it
+    if (step < -jump) return false;  // something nearer hides the rest
+    end = i;
+  }
+  return false;  // the field of view cuts it
+}
+
+}  // namespace
+
+BeamRun beamRunAround(const ScanView& v, std::size_t beam, double jump) {
+  BeamRun run;
+  long lo = static_cast<long>(beam), hi = lo;
+  run.edge_before = extendRun(v, lo, -1, jump, lo);
+  run.edge_after = extendRun(v, hi, 1, jump, hi);
+  run.first = static_cast<std::size_t>(lo);
+  run.last = static_cast<std::size_t>(hi);
+  return run;
+}
+
+void hitPoint(const ScanView& v, std::size_t i, double& x, double& y) {
+  const double a = v.phi + v.dir * (v.first + v.step * static_cast<double>(i));
+  x = v.x + v.ranges[i] * std::cos(a);
+  y = v.y + v.ranges[i] * std::sin(a);
+}
+
 }  // namespace dynamap

@@ -1,6 +1,7 @@
 #include "dynamap/objects/track.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace dynamap {
@@ -46,6 +47,21 @@ ShapeEstimate measureShape(Track& tr, double res, double sensor_x, double sensor
   return s;
 }
 
+void Tentative::addOutline(double size, double gap) {
+  const double w = 1.0 / std::max(gap * gap, 1e-6);
+  ++outlines;
+  outline_w += w;
+  outline_ws += w * size;
+  outline_wss += w * size * size;
+  outline_gap = outlines == 1 ? gap : std::min(outline_gap, gap);
+}
+
+double Tentative::outlineError() const {
+  const double mean = outlineSize();
+  const double spread = std::sqrt(std::max(0.0, outline_wss / outline_w - mean * mean));
+  return std::max(spread, 0.5 * outline_gap) / std::sqrt(static_cast<double>(outlines));
+}
+
 ShapeEstimate* Track::ownShape() {
   if (Tentative* t = tentative()) return &t->shape;
   if (Stale* s = stale()) return &s->shape;
@@ -59,8 +75,8 @@ const ShapeEstimate* Track::ownShape() const {
 bool passesFilters(const Track& tr, const ShapeEstimate& shape, const ObjectOptions& options) {
   // A thin row of cells along a wall is the wall seen at a grazing angle (or off by
   // localisation), not an object: no cylinder or person shows a straight row that long.
-  const bool wall_row = tr.hugs_wall && shape.thickness < options.thin_width &&
-                        shape.length >= options.thin_length;
+  const bool wall_row =
+      tr.hugs_wall && shape.thickness < options.thin_width && shape.length >= options.thin_length;
   return !wall_row && static_cast<int>(tr.cells.size()) >= options.min_cells &&
          shape.size >= options.min_size && shape.size <= options.max_size;
 }

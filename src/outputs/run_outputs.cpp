@@ -15,24 +15,25 @@ namespace dynamap {
 namespace {
 
 Json objectSummary(const ObjectTracker& tracker) {
-  std::size_t present = 0, absent = 0, withdrawn = 0;
-  for (const TrackedObject& ob : tracker.objects()) {
-    (ob.state == ObjectState::Present ? present
-     : ob.state == ObjectState::Absent ? absent
-                                       : withdrawn) += 1;
-  }
-  // The events of the table's objects, as events.csv holds them.
-  std::map<std::string, std::size_t> by_event{
-      {"new", 0}, {"moved", 0}, {"disappeared", 0}, {"reappeared", 0}};
+  std::map<std::string, std::size_t> by_state{
+      {"present", 0}, {"absent", 0}, {"withdrawn", 0}, {"relabeled", 0}, {"retracted", 0}};
+  for (const TrackedObject& ob : tracker.objects()) ++by_state[toString(ob.state)];
+  // The events as events.csv holds them.
+  std::map<std::string, std::size_t> by_event{{"new", 0},         {"moved", 0},
+                                              {"disappeared", 0}, {"reappeared", 0},
+                                              {"relabeled", 0},   {"retracted", 0}};
   for (const EventRecord& e : tracker.events()) {
-    if (inTable(tracker, e.object_id)) ++by_event[toString(e.event)];
+    if (eventsListed(tracker, e.object_id)) ++by_event[toString(e.event)];
   }
+  const std::size_t present = by_state["present"], absent = by_state["absent"];
   Json events = Json::object();
   for (const auto& kv : by_event) events[kv.first] = kv.second;
   return {{"enabled", tracker.options().enabled},
           {"total", present + absent},
           {"by_state", {{"present", present}, {"absent", absent}}},
-          {"withdrawn_as_people", withdrawn},
+          {"withdrawn_as_people", by_state["withdrawn"]},
+          {"provisional_relabeled", by_state["relabeled"]},
+          {"provisional_retracted", by_state["retracted"]},
           {"events", events}};
 }
 
@@ -70,12 +71,13 @@ Json baselineSummary(const DynamicGridMap& m, const PlainGrid& plain) {
 Json scanMatchSummary(const ScanMatchCounts& c) {
   Json reasons = Json::object();
   for (const auto& kv : c.fallbacks) reasons[kv.first] = kv.second;
-  return {{"matched", c.matched},
-          {"fallbacks", c.fallbackTotal()},
-          {"fallbacks_by_reason", reasons},
-          {"mean_correction_m",
-           jsonNumber("%.4f", c.matched ? c.sum_correction_m / static_cast<double>(c.matched) : 0.0)},
-          {"max_correction_m", jsonNumber("%.4f", c.max_correction_m)}};
+  return {
+      {"matched", c.matched},
+      {"fallbacks", c.fallbackTotal()},
+      {"fallbacks_by_reason", reasons},
+      {"mean_correction_m",
+       jsonNumber("%.4f", c.matched ? c.sum_correction_m / static_cast<double>(c.matched) : 0.0)},
+      {"max_correction_m", jsonNumber("%.4f", c.max_correction_m)}};
 }
 
 // Pass 1 of pose source slam: what the front end matched, the loop closures, the optimiser.
@@ -101,13 +103,14 @@ Json slamSummary(const SlamRun& run) {
 
 // The only block that differs between identical runs: how long the passes took.
 Json timingSummary(const RunCounts& c, const OutputInfo& info) {
-  Json t = {{"note", "the only part of the outputs that differs between identical runs"},
-            {"wall_s", jsonNumber("%.3f", info.wall_s)},
-            {"scans_per_s", jsonNumber("%.1f", info.wall_s > 0 ? c.scans_used / info.wall_s : 0.0)}};
+  Json t = {
+      {"note", "the only part of the outputs that differs between identical runs"},
+      {"wall_s", jsonNumber("%.3f", info.wall_s)},
+      {"scans_per_s", jsonNumber("%.1f", info.wall_s > 0 ? c.scans_used / info.wall_s : 0.0)}};
   if (info.baseline) {
     t["mrpt_baseline_wall_s"] = jsonNumber("%.3f", info.baseline_wall_s);
-    t["mrpt_baseline_scans_per_s"] = jsonNumber(
-        "%.1f", info.baseline_wall_s > 0 ? c.scans_used / info.baseline_wall_s : 0.0);
+    t["mrpt_baseline_scans_per_s"] =
+        jsonNumber("%.1f", info.baseline_wall_s > 0 ? c.scans_used / info.baseline_wall_s : 0.0);
   }
   if (info.slam) t["slam_pass1_wall_s"] = jsonNumber("%.3f", info.slam->wall_s);  // wall_s: pass 2
   return t;
@@ -144,29 +147,28 @@ Json summary(const Mapper& mapper, const ScanSource& source, const OutputInfo& i
   const DynamicGridMap& m = mapper.map();
   const RunCounts& c = mapper.counts();
   const auto cells = m.countCells();
-  Json j = {
-      {"input", info.input},
-      {"pose_source", mapper.poseSourceName(source)},
-      {"complete_input", info.outcome.fault.empty()},
-      {"input_fault", info.outcome.fault.empty() ? Json(nullptr) : Json(info.outcome.fault)},
-      {"pose_detail", source.poseDetail()},
-      {"input_warnings", source.stats().warnings},
-      {"records_read", source.stats().records},
-      {"records_skipped", recordsSkipped(source.stats())},
-      {"scans", scanSummary(c, source.stats())},
-      {"map",
-       {{"resolution_m", jsonNumber("%.6g", m.getResolution())},
-        {"size_cells", {m.getSizeX(), m.getSizeY()}},
-        {"x_min", jsonNumber("%.6g", m.getXMin())},
-        {"x_max", jsonNumber("%.6g", m.getXMax())},
-        {"y_min", jsonNumber("%.6g", m.getYMin())},
-        {"y_max", jsonNumber("%.6g", m.getYMax())}}},
-      {"cells",
-       {{"static_occupied", cells.static_occupied},
-        {"static_free", cells.static_free},
-        {"dynamic_occupied", cells.dynamic_occupied}}},
-      {"objects", objectSummary(mapper.tracker())},
-      {"people", peopleSummary(mapper.people())}};
+  Json j = {{"input", info.input},
+            {"pose_source", mapper.poseSourceName(source)},
+            {"complete_input", info.outcome.fault.empty()},
+            {"input_fault", info.outcome.fault.empty() ? Json(nullptr) : Json(info.outcome.fault)},
+            {"pose_detail", source.poseDetail()},
+            {"input_warnings", source.stats().warnings},
+            {"records_read", source.stats().records},
+            {"records_skipped", recordsSkipped(source.stats())},
+            {"scans", scanSummary(c, source.stats())},
+            {"map",
+             {{"resolution_m", jsonNumber("%.6g", m.getResolution())},
+              {"size_cells", {m.getSizeX(), m.getSizeY()}},
+              {"x_min", jsonNumber("%.6g", m.getXMin())},
+              {"x_max", jsonNumber("%.6g", m.getXMax())},
+              {"y_min", jsonNumber("%.6g", m.getYMin())},
+              {"y_max", jsonNumber("%.6g", m.getYMax())}}},
+            {"cells",
+             {{"static_occupied", cells.static_occupied},
+              {"static_free", cells.static_free},
+              {"dynamic_occupied", cells.dynamic_occupied}}},
+            {"objects", objectSummary(mapper.tracker())},
+            {"people", peopleSummary(mapper.people())}};
   if (mapper.scanMatching()) j["scan_matching"] = scanMatchSummary(mapper.scanMatchCounts());
   if (info.slam) j["slam"] = slamSummary(*info.slam);
   if (info.baseline) j["mrpt_baseline"] = baselineSummary(m, *info.baseline);
@@ -183,8 +185,8 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
   // of them only read the mapper. get() below passes on its error, if any.
   std::future<void> overlay = std::async(std::launch::async, [&] {
     const std::vector<PersonTrail> trails = mapper.people().trails();
-    saveImageAtomically(renderOverlay(m, mapper.path(), &mapper.tracker().objects(), &trails),
-                        dir, "overlay.png");
+    saveImageAtomically(renderOverlay(m, mapper.path(), &mapper.tracker().objects(), &trails), dir,
+                        "overlay.png");
   });
   saveImageAtomically(renderStatic(m), dir, "static.png");
   saveImageAtomically(renderDynamic(m), dir, "dynamic.png");

@@ -84,14 +84,14 @@ void PoseLog::append(double t, const mrpt::poses::CPose2D& pose) {
   file_.out() << buf;
 }
 
-bool inTable(const ObjectTracker& tracker, int id) {
+bool eventsListed(const ObjectTracker& tracker, int id) {
   return tracker.objects()[static_cast<std::size_t>(id - 1)].state != ObjectState::Withdrawn;
 }
 
 void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {
   o << "id,label,size_m,cx,cy,x_min,x_max,y_min,y_max,state,first_seen_t,last_seen_t,n_moves\n";
   for (const TrackedObject& ob : tracker.objects()) {
-    if (ob.state == ObjectState::Withdrawn) continue;
+    if (!listedInTable(ob.state)) continue;
     const ShapeEstimate& s = ob.shape;
     o << ob.id << ',' << ob.label << ',' << fmt("%.3f", s.size) << ',' << fmt("%.3f", s.cx) << ','
       << fmt("%.3f", s.cy) << ',' << fmt("%.3f", s.x_min) << ',' << fmt("%.3f", s.x_max) << ','
@@ -102,11 +102,13 @@ void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {
 }
 
 void writeEventsCsv(std::ostream& o, const ObjectTracker& tracker) {
-  o << "t,scan_index,object_id,event,cx,cy,size_m\n";
+  o << "t,scan_index,object_id,event,cx,cy,size_m,from_id\n";
   for (const EventRecord& e : tracker.events()) {
-    if (!inTable(tracker, e.object_id)) continue;
+    if (!eventsListed(tracker, e.object_id)) continue;
     o << fmt("%.6f", e.t) << ',' << e.scan_index << ',' << e.object_id << ',' << toString(e.event)
-      << ',' << fmt("%.3f", e.cx) << ',' << fmt("%.3f", e.cy) << ',' << fmt("%.3f", e.size) << '\n';
+      << ',' << fmt("%.3f", e.cx) << ',' << fmt("%.3f", e.cy) << ',' << fmt("%.3f", e.size) << ',';
+    if (e.from_id) o << e.from_id;
+    o << '\n';
   }
 }
 

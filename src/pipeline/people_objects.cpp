@@ -27,6 +27,8 @@ void PeopleObjects::update(const PersonTracker& people, ObjectTracker& objects,
         judgeGone(objects, s, scan_index);
         break;
       case ObjectEvent::Withdrawn:
+      case ObjectEvent::Relabeled:  // the new id has its own event (new, moved...) too
+      case ObjectEvent::Retracted:
         break;
     }
   }
@@ -144,9 +146,9 @@ void PeopleObjects::withdraw(ObjectTracker& objects, int id, double t, std::size
     if (cell.size() < kPlacesPerCell) cell.emplace_back(s.cx, s.cy);
   }
   records_.erase(id);
-  gone_.erase(std::remove_if(gone_.begin(), gone_.end(),
-                             [id](const Sighting& g) { return g.id == id; }),
-              gone_.end());
+  gone_.erase(
+      std::remove_if(gone_.begin(), gone_.end(), [id](const Sighting& g) { return g.id == id; }),
+      gone_.end());
 }
 
 }  // namespace dynamap

@@ -27,6 +27,12 @@ TEST(ObjectOptions, StrictLoadNamesKeyAndFile) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("b.ini: [objects] min_size"), std::string::npos);
   }
+  try {
+    ObjectOptions{}.load(IniFile::fromText("[objects]\nreport_scans = 11\n", "c.ini"));
+    FAIL() << "report_scans above confirm_scans accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("c.ini: [objects] report_scans"), std::string::npos);
+  }
 }
 
 TEST(ObjectOptions, WriteIniReloads) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "../test_util.h"
@@ -183,6 +184,81 @@ TEST(ObjectTracker, AnObjectSeenInPlaceSecondsAgoIsNotTakenForOneThatMovedUnseen
   EXPECT_EQ(objectsAfterATwinAppearsBehind(30.0), 2);
   // Without the rule the twin is taken for the first object, moved.
   EXPECT_EQ(objectsAfterATwinAppearsBehind(0.0), 1);
+}
+
+// The first report comes within 5 scans of D crossing the threshold on the object's cells
+// (once the scans show its whole outline), not confirm_scans later.
+std::size_t scansFromDToReport(int report_scans) {
+  ObjectOptions o;
+  o.report_scans = report_scans;
+  TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
+  const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+  run.steps(10, pose, {});
+  std::size_t crossed = 0;
+  for (int i = 0; i < 30 && run.tracker.objects().empty(); ++i) {
+    run.step(pose, {{1.0, 0.5, 0.4}});
+    if (!crossed && run.tracker.objectCellCount() > 0) crossed = run.index - 1;
+  }
+  EXPECT_GT(crossed, 0u);
+  EXPECT_EQ(run.tracker.objects().size(), 1u);
+  return run.index - 1 - crossed;
+}
+
+TEST(ObjectTracker, ANewObjectIsReportedWithinFiveScansOfDCrossingTheThreshold) {
+  EXPECT_LE(scansFromDToReport(2), 5u);
+  // Reporting only once the size has settled for confirm_scans takes longer.
+  EXPECT_GT(scansFromDToReport(10), 5u);
+}
+
+// A twin of an object appears behind the robot while the object is out of view: the twin is
+// first reported as the object, moved. Its old place is then seen still occupied before the
+// twin's size has settled: the report is relabeled to a new object, and the object keeps its
+// place and its id.
+TEST(ObjectTracker, AProvisionalIdentityLaterCorrectedIsRelabeledAndTheTableEndsRight) {
+  ObjectOptions o;
+  o.min_unseen_s = 0;  // any object out of view may have moved
+  TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
+  const mrpt::poses::CPose2D ahead(0.0, 0.0, 0.0), behind(0.0, 0.0, M_PI);
+  const Cylinder first{1.0, 0.5, 0.4}, twin{-1.5, 0.0, 0.4};
+  run.steps(10, ahead, {});
+  run.steps(15, ahead, {first});
+  run.steps(10, behind, {first});
+  for (int i = 0; i < 15 && run.events().back() != ObjectEvent::Moved; ++i) {
+    run.step(behind, {first, twin});
+  }
+  ASSERT_EQ(run.events().back(), ObjectEvent::Moved);  // provisional: the object, moved
+  EXPECT_EQ(run.tracker.events().back().object_id, 1);
+  run.steps(15, ahead, {first, twin});
+  const auto& ev = run.tracker.events();
+  const auto relabel = std::find_if(
+      ev.begin(), ev.end(), [](const EventRecord& e) { return e.event == ObjectEvent::Relabeled; });
+  ASSERT_NE(relabel, ev.end());
+  EXPECT_EQ(relabel->from_id, 1);
+  EXPECT_EQ(relabel->object_id, 2);
+  ASSERT_EQ(run.tracker.objects().size(), 2u);
+  const TrackedObject& a = run.tracker.objects()[0];
+  const TrackedObject& b = run.tracker.objects()[1];
+  EXPECT_EQ(a.state, ObjectState::Present);
+  EXPECT_EQ(a.n_moves, 0);
+  EXPECT_NEAR(a.shape.cx, first.x, 0.05);
+  EXPECT_NEAR(a.shape.cy, first.y, 0.05);
+  EXPECT_EQ(b.state, ObjectState::Present);
+  EXPECT_NEAR(b.shape.cx, twin.x, 0.05);
+  EXPECT_NEAR(b.shape.cy, twin.y, 0.05);
+}
+
+// A cluster seen for a moment and then seen gone, before its size settled, is withdrawn from
+// the table (retracted), not left in it as an absent object.
+TEST(ObjectTracker, AReportSeenGoneBeforeItSettledIsRetracted) {
+  TrackerRun run;
+  const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+  run.steps(10, pose, {});
+  for (int i = 0; i < 15 && run.tracker.objects().empty(); ++i) run.step(pose, {{1.0, 0.5, 0.4}});
+  ASSERT_EQ(run.tracker.objects().size(), 1u);
+  run.steps(10, pose, {});
+  EXPECT_EQ(run.tracker.objects()[0].state, ObjectState::Retracted);
+  EXPECT_FALSE(listedInTable(run.tracker.objects()[0].state));
+  EXPECT_EQ(run.events(), (std::vector<ObjectEvent>{ObjectEvent::New, ObjectEvent::Retracted}));
 }
 
 }  // namespace

@@ -133,7 +133,8 @@ Figures score(const std::string& name) {
   std::set<int> moved;
   for (const Move& mv : truth.moves) moved.insert(mv.object);
   f.objects_moved = moved.size();
-  f.ids = mapper.tracker().objects().size();
+  f.ids = 0;  // the table's objects: provisional reports relabeled or retracted are not
+  for (const TrackedObject& o : mapper.tracker().objects()) f.ids += listedInTable(o.state);
   f.false_objects = false_ids.size();
   // The id each true object goes by: the one found at its first move's target.
   std::map<int, int> id_of;

@@ -79,6 +79,34 @@ void setBeams(ScanView& v, int from, int to, float range) {
   for (int i = from; i <= to; ++i) v.ranges[static_cast<std::size_t>(i)] = range;
 }
 
+// An object 2 m away on beams 80..90 of a wall at 5 m: its run, with both edges seen.
+TEST(BeamRunAround, ARunEndsWhereTheNextBeamPassesBehindOrIsHidden) {
+  ScanView v = wallView(1.0);
+  setBeams(v, 80, 90, 2.0f);
+  v.ranges[85] = 1.95f;  // its surface bulges: steps within the jump continue the run
+  BeamRun run = beamRunAround(v, 83, 0.15);
+  EXPECT_EQ(run.first, 80u);
+  EXPECT_EQ(run.last, 90u);
+  EXPECT_TRUE(run.whole());
+  // Something nearer beside it hides one edge: not whole.
+  v.ranges[91] = 1.0f;
+  run = beamRunAround(v, 83, 0.15);
+  EXPECT_TRUE(run.edge_before);
+  EXPECT_FALSE(run.edge_after);
+  // No echo beside it is an edge; the end of the field of view is not.
+  v.ranges[91] = -1.0f;
+  EXPECT_TRUE(beamRunAround(v, 83, 0.15).whole());
+  setBeams(v, 0, 10, 2.0f);
+  run = beamRunAround(v, 4, 0.15);
+  EXPECT_EQ(run.first, 0u);
+  EXPECT_EQ(run.last, 10u);
+  EXPECT_FALSE(run.edge_before);
+  EXPECT_TRUE(run.edge_after);
+  // A wall 5 cm behind it continues the run: an object against a wall shows no outline.
+  setBeams(v, 91, 180, 2.05f);
+  EXPECT_FALSE(beamRunAround(v, 83, 0.15).edge_after);
+}
+
 TEST(ViewOf, BeamsPastThePlaceSeeItFreeBeamsEndingThereSeeItOccupied) {
   ScanView v = wallView(1.0);
   EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1), PlaceView::SeenFree);

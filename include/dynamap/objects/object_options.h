@@ -21,9 +21,18 @@ struct ObjectOptions {
   double min_size = 0.06;  ///< [m] smaller estimated sizes are noise; [0, max_size)
   double max_size = 1.2;  ///< [m] larger clusters are not objects (walls seen off by localisation);
                           ///< (min_size, 20]
-  /// a new cluster is reported after passing the filters this many scans in a row with its
-  /// size estimate settled (changing by at most settle_size from scan to scan): an object is
-  /// judged once the robot has seen enough of it to tell its size. 10 scans (2 s at 5 Hz):
+  /// a new cluster is reported, with a provisional identity, after passing the filters this
+  /// many scans in a row with its size estimate settled (changing by at most settle_size from
+  /// scan to scan); [1, confirm_scans]
+  int report_scans = 2;
+  /// [m] a cluster is reported before confirm_scans only when a scan shows its whole outline:
+  /// the beams on it form a run whose ranges step by at most this, both beams beside the run
+  /// end farther than this behind it, and the size fitted to the run agrees with the
+  /// cluster's within settle_size. Else it waits for confirm_scans; (0, 5]
+  double outline_jump = 0.15;
+  /// a reported cluster's identity is judged again once it has passed the filters this many
+  /// scans in a row with its size settled, and relabeled if another object (or a new one) fits
+  /// better: the robot has then seen enough of it to tell its size. 10 scans (2 s at 5 Hz):
   /// 8 to 15 all meet the bundled scenarios' identity floors, 5 does not; [1, 1000]
   int confirm_scans = 10;
   double settle_size = 0.02;  ///< [m] see confirm_scans; [0, 1]

@@ -9,11 +9,19 @@
 
 namespace dynamap {
 
-/// Withdrawn: it was a person standing, who walked off (the table no longer holds it).
-enum class ObjectState { Present, Absent, Withdrawn };
+/// Withdrawn: it was a person standing, who walked off. Relabeled: a provisional identity
+/// found to be another object's (or a new one's). Retracted: a provisional report whose place
+/// was seen empty before its size settled. The table holds none of these three.
+enum class ObjectState { Present, Absent, Withdrawn, Relabeled, Retracted };
 const char* toString(ObjectState s);
+/// Whether objects.csv lists an object in state `s` (present or absent).
+inline bool listedInTable(ObjectState s) {
+  return s == ObjectState::Present || s == ObjectState::Absent;
+}
 
-enum class ObjectEvent { New, Moved, Disappeared, Reappeared, Withdrawn };
+/// Relabeled: the object first reported as `from_id` is this one (`object_id`). Retracted: a
+/// provisional report withdrawn (its place seen empty before its size settled).
+enum class ObjectEvent { New, Moved, Disappeared, Reappeared, Withdrawn, Relabeled, Retracted };
 const char* toString(ObjectEvent e);
 
 struct PositionRecord {
@@ -22,8 +30,8 @@ struct PositionRecord {
 
 /// One row of the object table.
 struct TrackedObject {
-  int id = 0;           ///< 1, 2, ... in order of first report
-  std::string label;    ///< "object<id>"
+  int id = 0;         ///< 1, 2, ... in order of first report
+  std::string label;  ///< "object<id>"
   /// Its shape: while it is tracked, the live estimate of its track (which holds no copy);
   /// once absent, the last one.
   ShapeEstimate shape;
@@ -40,6 +48,7 @@ struct EventRecord {
   int object_id;
   ObjectEvent event;
   double cx, cy, size;
+  int from_id = 0;  ///< Relabeled: the provisional id it replaces; else 0
 };
 
 }  // namespace dynamap

@@ -15,6 +15,7 @@
 // object's row is the one copy, refreshed from the track's cells and hit points.
 
 #include <map>
+#include <optional>
 #include <set>
 #include <unordered_map>
 #include <unordered_set>
@@ -79,6 +80,9 @@ class ObjectTracker {
   bool onObjectCell(const DynamicGridMap& map, double x, double y) const;
   void dropLostTracks(double t, std::size_t scan_index);
   void checkStalePlaces(const ScanView& view, double t, std::size_t scan_index);
+  /// Reported tracks under review whose size has settled for confirm_scans get their identity
+  /// judged again (settle()).
+  void reviewReports(const ScanView& view, double t, std::size_t scan_index);
   void confirmTentatives(const ScanView& view, double t, std::size_t scan_index);
   void checkDrift(double t, std::size_t scan_index);
   void updateLastSeen(const ScanView& view, double t);
@@ -107,9 +111,32 @@ class ObjectTracker {
   /// The objects a detection of shape `s` may be, as chooseIdentity sees them, and their ids.
   void identityCandidates(const ShapeEstimate& s, int exclude_id, const ScanView& view, double t,
                           std::vector<IdentityCandidate>& cands, std::vector<int>& ids) const;
-  /// Gives tentative track `key` an identity (new, moved, reappeared); false while waiting
-  /// for an out-of-sight place (defer_s).
+  /// The known object a detection of shape `s` is, or 0 for a new one. With `slack` >= 0 [m]
+  /// (a size from one scan, off by up to that much), -1 when that error could change the
+  /// choice: another known size within size_tolerance + slack.
+  int pickIdentity(const ShapeEstimate& s, int exclude_id, double slack, const ScanView& view,
+                   double t) const;
+  /// Reports tentative track `key` under an identity (new, moved, reappeared): provisional,
+  /// under review, until it has passed confirm_scans; false while waiting for an out-of-sight
+  /// place (defer_s).
   bool confirm(int key, const ScanView& view, double t, std::size_t scan_index);
+  /// Track `key` becomes object `id` (0: a new one) with shape `s`; the event says how.
+  void claim(int key, int id, const ShapeEstimate& s, std::optional<Review> review, double t,
+             std::size_t scan_index);
+  /// Judges the identity of reported track `key` again, as if it had not been reported; a
+  /// different one replaces it (a relabeled event).
+  void settle(int key, const ScanView& view, double t, std::size_t scan_index);
+  /// Undoes what reporting track `key` under review did to the table: a new object is hidden
+  /// (`hidden`), a known object gets its row back and its place if that was not seen empty.
+  void undoClaim(int key, ObjectState hidden, double t, std::size_t scan_index);
+  /// Whether this scan shows the whole outline of track `key` (shape `s`): a run of beams on
+  /// it with an edge at each end (ObjectOptions::outline_jump), no larger than an object and
+  /// holding its cells. Then `size` [m] is fitted to the run and `gap` [m] is the beams'
+  /// spacing there.
+  bool measureOutline(const ScanView& view, int key, const ShapeEstimate& s, double& size,
+                      double& gap) const;
+  /// Whether some track reports object `id` provisionally.
+  bool underReview(int id) const;
   /// Object `id` was found elsewhere (by track `moved_to`): its track becomes a stale place.
   void leavePlace(int id, int moved_to);
   /// Stale `place` was seen occupied while `took` still holds its object's id: `took` becomes
@@ -125,15 +152,17 @@ class ObjectTracker {
 
   ObjectOptions options_;
   double resolution_ = 0;
-  int origin_x_ = 0, origin_y_ = 0;         // global cell of the grid's cell (0, 0)
-  double sensor_x_ = 0, sensor_y_ = 0;      // where the last scan was taken from
-  std::unordered_set<CellKey> cells_;       // every D object cell
-  std::unordered_map<CellKey, int> owner_;  // cell -> key of its track
+  int origin_x_ = 0, origin_y_ = 0;               // global cell of the grid's cell (0, 0)
+  double sensor_x_ = 0, sensor_y_ = 0;            // where the last scan was taken from
+  std::unordered_set<CellKey> cells_;             // every D object cell
+  std::unordered_map<CellKey, int> owner_;        // cell -> key of its track
   std::unordered_map<CellKey, bool> noise_memo_;  // cell -> wall noise, for one recluster
-  std::map<int, Track> tracks_;             // by key, in creation order
+  std::map<int, Track> tracks_;                   // by key, in creation order
   int next_track_ = 1;
-  std::set<int> touched_;  // tracks whose cells changed this scan
-  std::set<int> pending_;  // tentatives passing the filters
+  std::set<int> touched_;               // tracks whose cells changed this scan
+  std::set<int> pending_;               // tentatives passing the filters
+  std::set<int> reviewing_;             // reported tracks whose identity is provisional
+  std::map<int, std::size_t> beam_on_;  // track key -> a beam of this scan ending on its cells
   std::vector<TrackedObject> objects_;
   std::vector<EventRecord> events_;
   std::size_t events_before_update_ = 0;

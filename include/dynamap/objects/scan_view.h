@@ -33,4 +33,18 @@ ScanView makeScanView(const RangeData& rd, const mrpt::poses::CPose2D& robot);
 /// hidden behind something nearer). `margin` [m] tolerates range noise and cell size.
 PlaceView viewOf(const ScanView& view, double cx, double cy, double r, double margin);
 
+/// A run of consecutive beams whose hits lie on one surface: each hit within `jump` [m] of
+/// range of the one before. An end is an outline edge when the beam beyond it ends farther
+/// than `jump` behind (or has no echo): the surface ends there, it is not hidden by something
+/// nearer nor cut by the field of view.
+struct BeamRun {
+  std::size_t first = 0, last = 0;  ///< beam indices, first <= last
+  bool edge_before = false, edge_after = false;
+  bool whole() const { return edge_before && edge_after; }
+};
+/// The run of beam `beam` (which must have a hit: 0 <= range < max_range).
+BeamRun beamRunAround(const ScanView& view, std::size_t beam, double jump);
+/// Where beam `i`'s hit lies in the map frame.
+void hitPoint(const ScanView& view, std::size_t i, double& x, double& y);
+
 }  // namespace dynamap

@@ -3,23 +3,27 @@
 // in. The state is a variant holding the data of that state only, so a track cannot be, say,
 // confirmed and stale at once, or stale without the object whose place it is.
 //
-//   Tentative --confirm--> Confirmed --its object found elsewhere, move unseen--> Stale
+//   Tentative --report--> Confirmed (under review) --size settled--> Confirmed
+//   Confirmed --its object found elsewhere, move unseen--> Stale
 //   Stale --seen occupied, its object's detection still under its id--> Confirmed (revived)
 //   Stale --seen occupied, its object has moved on since--> Tentative (never that object)
-// A track whose cells all faded ends: a confirmed one's object is then absent.
+// A track whose cells all faded ends: a confirmed one's object is then absent (retracted if it
+// was still under review).
 
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <variant>
 #include <vector>
 
 #include "dynamap/objects/clustering.h"
 #include "dynamap/objects/object_options.h"
+#include "dynamap/objects/object_table.h"
 #include "dynamap/objects/shape.h"
 
 namespace dynamap {
 
-/// Not reported yet: it must pass the filters confirm_scans scans in a row with its size
+/// Not reported yet: it must pass the filters report_scans scans in a row with its size
 /// settled.
 struct Tentative {
   ShapeEstimate shape;   ///< the cluster's shape
@@ -30,6 +34,36 @@ struct Tentative {
   /// A person stood on it (KeepOut): from then on only scans that see it occupied count, so
   /// the cells their legs left, not yet seen empty, are never an object.
   bool kept_out = false;
+  /// The sizes fitted to its whole outline, in the scans of this run that showed it whole
+  /// (ObjectOptions::outline_jump): a first size before its cells have all crossed D.
+  int outlines = 0;
+  /// Sums of weight w, w·size, w·size² over them; a size weighs 1 / (beam spacing)²: the
+  /// nearer the robot, the finer the outline.
+  double outline_w = 0, outline_ws = 0, outline_wss = 0;
+  double outline_gap = 0;  ///< [m] the smallest beam spacing among them
+  /// Add one outline of `size` [m] seen with beams `gap` [m] apart.
+  void addOutline(double size, double gap);
+  /// Their weighted mean, and its uncertainty: max(spread, half the finest beam spacing) /
+  /// sqrt(count).
+  double outlineSize() const { return outline_ws / outline_w; }
+  double outlineError() const;
+  /// A run of passes broken: counting starts again.
+  void restart() {
+    passes = outlines = 0;
+    outline_w = outline_ws = outline_wss = 0;
+    outline_gap = 0;
+  }
+};
+
+/// A report whose identity is provisional: given from the first size, judged again once the
+/// size has settled for confirm_scans scans.
+struct Review {
+  int passes = 0;        ///< consecutive scans passing the filters with a settled size
+  double last_size = 0;  ///< [m] size at the last filter pass
+  double first_t = 0;    ///< [s] when the run of passes that reported it began
+  int exclude_id = 0;    ///< as Tentative's
+  bool claimed = false;  ///< the identity was a known object's...
+  TrackedObject before;  ///< ...whose row, before this report, this is
 };
 
 /// Reported: it is object `id` of the table. Its shape is that object's row's
@@ -38,6 +72,7 @@ struct Confirmed {
   int id = 0;
   double anchor_x = 0, anchor_y = 0;  ///< [m] where the last event placed it
   std::size_t best_cells = 0;         ///< most cells seen at this place: the size follows those
+  std::optional<Review> review;       ///< set while its identity is provisional
 };
 
 /// The cells object `object_id` left when its move was not seen: never reported. It ends when
@@ -61,7 +96,7 @@ struct HitPoint {
 
 struct Track {
   std::vector<CellKey> cells;  ///< sorted
-  bool hugs_wall = false;  ///< some cell is near a cell S does not hold free
+  bool hugs_wall = false;      ///< some cell is near a cell S does not hold free
   /// The latest hit point in each centimetre bin of its cells: the size is fitted to these.
   std::map<CellKey, HitPoint> points;
   TrackState state;  ///< a new track is tentative

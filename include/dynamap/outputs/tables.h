@@ -71,11 +71,14 @@ class PoseLog {
   StreamedFile file_;
 };
 
-/// Whether object `id` is in the final table: not withdrawn (a person standing, who walked off).
-bool inTable(const ObjectTracker& tracker, int id);
+/// Whether events.csv lists the events of object `id`: every object's but a withdrawn one's (a
+/// person standing, who walked off). A relabeled or retracted provisional report keeps its
+/// events, so a user can follow it; objects.csv lists neither.
+bool eventsListed(const ObjectTracker& tracker, int id);
 /// Writers of the object table, exact and fixed-format (byte-identical between runs): the
-/// table's objects and their events; a withdrawn object is in neither (only in tracks.csv,
-/// which was streamed while it was reported).
+/// table's objects (present or absent) and the events (see eventsListed). A withdrawn,
+/// relabeled or retracted object is not in objects.csv, only in tracks.csv, which was streamed
+/// while it was reported.
 void writeObjectsCsv(std::ostream& out, const ObjectTracker& tracker);
 void writeEventsCsv(std::ostream& out, const ObjectTracker& tracker);
 
