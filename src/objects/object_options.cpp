@@ -21,7 +21,7 @@ const OptionTable<ObjectOptions>& ObjectOptions::table() {
           {"max_size", &O::max_size, Range::openClosed(0, 20), "m",
            "larger clusters are not objects"},
           {"report_scans", &O::report_scans, Range::closed(1, 1000), "",
-           "scans a new cluster must last to be reported, provisionally"},
+           "scans showing a new cluster's whole outline before it is reported, provisionally"},
           {"outline_jump", &O::outline_jump, Range::openClosed(0, 5), "m",
            "range step that ends an object's outline in a scan"},
           {"confirm_scans", &O::confirm_scans, Range::closed(1, 1000), "",

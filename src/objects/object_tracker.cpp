@@ -312,15 +312,15 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
     }
     pending_.insert(key);
     if (tent->kept_out && viewOfShape(view, tent->shape) != PlaceView::SeenOccupied) continue;
-    if (tent->passes == 0) tent->first_t = t;
+    if (tent->run.passes == 0) tent->first_t = t;
     // Count only scans that left its size as it was: an object is judged once its size has
     // settled (it is all there, and the robot has seen enough of it to tell its size).
-    const bool settled = std::abs(tent->shape.size - tent->last_size) <= options_.settle_size;
-    tent->last_size = tent->shape.size;
-    tent->passes = settled ? tent->passes + 1 : 1;
+    tent->run.pass(tent->shape.size, options_.settle_size);
     double outline = 0, gap = 0;
     if (measureOutline(view, key, tent->shape, outline, gap)) tent->addOutline(outline, gap);
-    if (tent->passes < options_.confirm_scans && tent->outlines < options_.report_scans) continue;
+    if (tent->run.passes < options_.confirm_scans && tent->outlines < options_.report_scans) {
+      continue;
+    }
     if (confirm(key, view, t, scan_index)) {
       pending_.erase(key);
     }
@@ -377,7 +377,7 @@ int ObjectTracker::pickIdentity(const ShapeEstimate& s, int exclude_id, double s
 
 bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t scan_index) {
   const Tentative tent = *tracks_[key].tentative();
-  const bool final = tent.passes >= options_.confirm_scans;
+  const bool final = tent.run.passes >= options_.confirm_scans;
   // Before confirm_scans, only a scan that shows the object whole tells its size well enough,
   // and then only a choice that its error could not change.
   ShapeEstimate s = tent.shape;
@@ -396,7 +396,7 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
   }
   std::optional<Review> review;
   if (!final) {
-    review = Review{tent.passes, tent.last_size, tent.first_t, tent.exclude_id, false, {}};
+    review = Review{tent.run, tent.first_t, tent.exclude_id, false, {}};
     reviewing_.insert(key);
   }
   claim(key, id, s, std::move(review), t, scan_index);
@@ -440,13 +440,11 @@ void ObjectTracker::reviewReports(const ScanView& view, double t, std::size_t sc
     Review& r = *c->review;
     const ShapeEstimate& s = object(c->id).shape;
     if (!passesFilters(it->second, s, options_) || nearKeepOut(s)) {
-      r.passes = 0;
+      r.run.passes = 0;
       continue;
     }
-    const bool settled = std::abs(s.size - r.last_size) <= options_.settle_size;
-    r.last_size = s.size;
-    r.passes = settled ? r.passes + 1 : 1;
-    if (r.passes >= options_.confirm_scans) settle(key, view, t, scan_index);
+    r.run.pass(s.size, options_.settle_size);
+    if (r.run.passes >= options_.confirm_scans) settle(key, view, t, scan_index);
   }
 }
 
@@ -466,13 +464,13 @@ void ObjectTracker::settle(int key, const ScanView& view, double t, std::size_t 
   reviewing_.erase(key);  // its own claim is no obstacle
   const int id = pickIdentity(s, r.exclude_id, -1, view, t);
   object(current) = now;
-  const bool wait = id && id != current && object(id).state == ObjectState::Present &&
-                    t - r.first_t < options_.defer_s;
-  if (wait || id == (r.claimed ? current : 0)) {
-    if (wait)
-      reviewing_.insert(key);
-    else
-      c.review.reset();  // the identity stands
+  if (id == (r.claimed ? current : 0)) {
+    c.review.reset();  // the identity stands
+    return;
+  }
+  // Another object still shown at a place out of sight: wait for that place, up to defer_s.
+  if (id && object(id).state == ObjectState::Present && t - r.first_t < options_.defer_s) {
+    reviewing_.insert(key);
     return;
   }
   undoClaim(key, ObjectState::Relabeled, t, scan_index);
@@ -606,8 +604,8 @@ void ObjectTracker::collectPoints(const DynamicGridMap& map, const ScanView& vie
     // cell unless the point lies on a cell's edge: there, and on object cells, it is exact.
     if (cached && !onObjectCell(map, view.x + r * view.cosines[i], view.y + r * view.sines[i]))
       continue;
-    const double a = view.phi + view.dir * (view.first + view.step * static_cast<double>(i));
-    const double x = view.x + r * std::cos(a), y = view.y + r * std::sin(a);
+    double x, y;
+    hitPoint(view, i, x, y);
     const int cx = map.x2idx(x), cy = map.y2idx(y);
     if (cx < 0 || cy < 0 || cx >= static_cast<int>(map.getSizeX()) ||
         cy >= static_cast<int>(map.getSizeY())) {

@@ -67,7 +67,7 @@ PlaceView viewOf(const ScanView& v, double cx, double cy, double r, double margi
   for (long i = lo; i <= hi; ++i) {
     const double range = v.ranges[static_cast<std::size_t>(i)];
     if (range < 0) continue;
-    const double off = wrapAngle(v.phi + v.dir * (v.first + v.step * i) - bearing);
+    const double off = wrapAngle(beamAngle(v, static_cast<std::size_t>(i)) - bearing);
     const double along = d * std::cos(off), perp = d * std::abs(std::sin(off));
     if (perp > r) continue;
     const double entry = along - std::sqrt(r * r - perp * perp);
@@ -118,7 +118,7 @@ BeamRun beamRunAround(const ScanView& v, std::size_t beam, double jump) {
 }
 
 void hitPoint(const ScanView& v, std::size_t i, double& x, double& y) {
-  const double a = v.phi + v.dir * (v.first + v.step * static_cast<double>(i));
+  const double a = beamAngle(v, i);
   x = v.x + v.ranges[i] * std::cos(a);
   y = v.y + v.ranges[i] * std::sin(a);
 }

@@ -47,6 +47,12 @@ ShapeEstimate measureShape(Track& tr, double res, double sensor_x, double sensor
   return s;
 }
 
+void SettledRun::pass(double size, double settle_size) {
+  const bool settled = std::abs(size - last_size) <= settle_size;
+  last_size = size;
+  passes = settled ? passes + 1 : 1;
+}
+
 void Tentative::addOutline(double size, double gap) {
   const double w = 1.0 / std::max(gap * gap, 1e-6);
   ++outlines;

@@ -21,14 +21,14 @@ struct ObjectOptions {
   double min_size = 0.06;  ///< [m] smaller estimated sizes are noise; [0, max_size)
   double max_size = 1.2;  ///< [m] larger clusters are not objects (walls seen off by localisation);
                           ///< (min_size, 20]
-  /// a new cluster is reported, with a provisional identity, after passing the filters this
-  /// many scans in a row with its size estimate settled (changing by at most settle_size from
-  /// scan to scan); [1, confirm_scans]
+  /// a new cluster is reported, with a provisional identity, once this many scans of its run
+  /// of filter passes have shown its whole outline (see outline_jump) and the identity the
+  /// outlines' size gives holds for any size within their error; else it waits for
+  /// confirm_scans; [1, confirm_scans]
   int report_scans = 2;
-  /// [m] a cluster is reported before confirm_scans only when a scan shows its whole outline:
-  /// the beams on it form a run whose ranges step by at most this, both beams beside the run
-  /// end farther than this behind it, and the size fitted to the run agrees with the
-  /// cluster's within settle_size. Else it waits for confirm_scans; (0, 5]
+  /// [m] a scan shows a cluster's whole outline when the beams on it form a run whose ranges
+  /// step by at most this, both beams beside the run end farther than this behind it, and the
+  /// run, fitted as one object, is no larger than max_size and holds the cluster; (0, 5]
   double outline_jump = 0.15;
   /// a reported cluster's identity is judged again once it has passed the filters this many
   /// scans in a row with its size settled, and relabeled if another object (or a new one) fits

@@ -111,14 +111,14 @@ class ObjectTracker {
   /// The objects a detection of shape `s` may be, as chooseIdentity sees them, and their ids.
   void identityCandidates(const ShapeEstimate& s, int exclude_id, const ScanView& view, double t,
                           std::vector<IdentityCandidate>& cands, std::vector<int>& ids) const;
-  /// The known object a detection of shape `s` is, or 0 for a new one. With `slack` >= 0 [m]
-  /// (a size from one scan, off by up to that much), -1 when that error could change the
-  /// choice: another known size within size_tolerance + slack.
+  /// The known object a detection of shape `s` is, or 0 for a new one. With `slack` > 0 [m]
+  /// (the error of s.size), -1 when a size two errors above or below would change the choice.
   int pickIdentity(const ShapeEstimate& s, int exclude_id, double slack, const ScanView& view,
                    double t) const;
-  /// Reports tentative track `key` under an identity (new, moved, reappeared): provisional,
-  /// under review, until it has passed confirm_scans; false while waiting for an out-of-sight
-  /// place (defer_s).
+  /// Reports tentative track `key` under an identity (new, moved, reappeared): before
+  /// confirm_scans a provisional one, from its outlines' size, kept under review. False when
+  /// not reported yet: that size's error could change the identity, or (after confirm_scans)
+  /// the only fit is an object at an out-of-sight place it waits for (defer_s).
   bool confirm(int key, const ScanView& view, double t, std::size_t scan_index);
   /// Track `key` becomes object `id` (0: a new one) with shape `s`; the event says how.
   void claim(int key, int id, const ShapeEstimate& s, std::optional<Review> review, double t,

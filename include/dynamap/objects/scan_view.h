@@ -44,6 +44,10 @@ struct BeamRun {
 };
 /// The run of beam `beam` (which must have a hit: 0 <= range < max_range).
 BeamRun beamRunAround(const ScanView& view, std::size_t beam, double jump);
+/// The direction of beam `i` in the map frame [rad], not wrapped.
+inline double beamAngle(const ScanView& view, std::size_t i) {
+  return view.phi + view.dir * (view.first + view.step * static_cast<double>(i));
+}
 /// Where beam `i`'s hit lies in the map frame.
 void hitPoint(const ScanView& view, std::size_t i, double& x, double& y);
 

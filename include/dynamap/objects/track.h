@@ -23,14 +23,24 @@
 
 namespace dynamap {
 
-/// Not reported yet: it must pass the filters report_scans scans in a row with its size
-/// settled.
-struct Tentative {
-  ShapeEstimate shape;   ///< the cluster's shape
-  int passes = 0;        ///< consecutive scans passing the filters with a settled size
+/// Consecutive scans passing the filters with a settled size: each changed by at most
+/// settle_size since the scan before.
+struct SettledRun {
+  int passes = 0;
   double last_size = 0;  ///< [m] size at the last filter pass
-  double first_t = 0;    ///< [s] when the current run of passes began
-  int exclude_id = 0;    ///< identity must not pick this object (0: none): a stale place re-found
+  /// One more scan passing the filters, with size `size` [m]: the run grows if the size
+  /// settled, else starts again at 1.
+  void pass(double size, double settle_size);
+};
+
+/// Not reported yet. It is reported, provisionally, once report_scans scans of its run of
+/// filter passes have shown its whole outline and the identity that outline's size gives holds
+/// for any size within its error; or, finally, after confirm_scans settled passes.
+struct Tentative {
+  ShapeEstimate shape;  ///< the cluster's shape
+  SettledRun run;
+  double first_t = 0;  ///< [s] when the current run of passes began
+  int exclude_id = 0;  ///< identity must not pick this object (0: none): a stale place re-found
   /// A person stood on it (KeepOut): from then on only scans that see it occupied count, so
   /// the cells their legs left, not yet seen empty, are never an object.
   bool kept_out = false;
@@ -49,7 +59,7 @@ struct Tentative {
   double outlineError() const;
   /// A run of passes broken: counting starts again.
   void restart() {
-    passes = outlines = 0;
+    run.passes = outlines = 0;
     outline_w = outline_ws = outline_wss = 0;
     outline_gap = 0;
   }
@@ -58,8 +68,7 @@ struct Tentative {
 /// A report whose identity is provisional: given from the first size, judged again once the
 /// size has settled for confirm_scans scans.
 struct Review {
-  int passes = 0;        ///< consecutive scans passing the filters with a settled size
-  double last_size = 0;  ///< [m] size at the last filter pass
+  SettledRun run;        ///< continues the tentative's
   double first_t = 0;    ///< [s] when the run of passes that reported it began
   int exclude_id = 0;    ///< as Tentative's
   bool claimed = false;  ///< the identity was a known object's...
