@@ -521,7 +521,8 @@ bool ObjectTracker::measureOutline(const ScanView& view, int key, const ShapeEst
   ShapeEstimate outline;
   ObjectOptions few = options_;  // an outline of a small object has few points
   few.min_fit_cells = 3;
-  if (!estimatePointShape(xs, ys, gap, view.x, view.y, few, outline)) outline.size = gap;
+  // Fewer than three beams (the fit's minimum) measure no size and place one can trust.
+  if (!estimatePointShape(xs, ys, gap, view.x, view.y, few, outline)) return false;
   size = outline.size;
   // The outline is this object's: no larger than an object, and holding its cells.
   const double off = std::hypot(outline.cx - s.cx, outline.cy - s.cy);
