@@ -20,6 +20,7 @@ int chooseIdentity(const ShapeEstimate& det, double t,
     if (!c.absent && c.view == PlaceView::SeenOccupied) continue;
     const double age = c.absent ? std::max(0.0, t - c.vanished_t) : 0.0;
     const double dist = std::hypot(c.cx - det.cx, c.cy - det.cy);
+    if (dist > o.far_match_distance && c.shared_size) continue;
     const double cost = ds / o.size_tolerance + age / o.match_time_scale +
                         dist / o.match_distance_scale + (c.absent ? 0.0 : kUnseenPenalty);
     if (cost < best_cost) {

@@ -49,6 +49,10 @@ const OptionTable<ObjectOptions>& ObjectOptions::table() {
            "identity: cost of time since vanishing"},
           {"match_distance_scale", &O::match_distance_scale, Range::openClosed(0, 1e9), "m",
            "identity: cost of distance from the last place"},
+          {"far_match_distance", &O::far_match_distance, Range::openClosed(0, 1e9), "m",
+           "identity: a farther object matches only if no other has as near a size"},
+          {"far_size_margin", &O::far_size_margin, Range::closed(0, 5), "m",
+           "...nearer by at least this"},
           {"min_fit_cells", &O::min_fit_cells, Range::closed(3, 1000), "",
            "cells needed for a circle fit"},
       });

@@ -354,6 +354,15 @@ void ObjectTracker::identityCandidates(const ShapeEstimate& s, int exclude_id, c
     cands.push_back({o.shape.cx, o.shape.cy, o.shape.size, absent, o.vanished_t, pv});
     ids.push_back(o.id);
   }
+  // A far candidate needs the size nearest the detection's among all known objects, candidates
+  // or not (an object seen in place shares a size as much as one that could have moved).
+  for (std::size_t k = 0; k < cands.size(); ++k) {
+    const double own = std::abs(cands[k].size - s.size) + options_.far_size_margin;
+    for (const TrackedObject& o : objects_) {
+      if (o.id == ids[k] || o.id == exclude_id || !listedInTable(o.state)) continue;
+      if (std::abs(o.shape.size - s.size) < own) cands[k].shared_size = true;
+    }
+  }
 }
 
 int ObjectTracker::pickIdentity(const ShapeEstimate& s, int exclude_id, double slack,

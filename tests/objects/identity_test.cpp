@@ -57,5 +57,19 @@ TEST(ChooseIdentity, PresentObjectOutOfSightMayHaveMoved) {
   EXPECT_EQ(chooseIdentity(detection(2, 2, 0.30), 100.0, c, o), 0);
 }
 
+TEST(ChooseIdentity, FarMatchOnlyForASizeNoOtherObjectShares) {
+  ObjectOptions o;
+  o.far_match_distance = 10.0;
+  // An absent 0.30 m object 15 m away: taken while its size is its own...
+  std::vector<IdentityCandidate> c{{17.0, 2.0, 0.30, true, 90.0, PlaceView::NotInView}};
+  EXPECT_EQ(chooseIdentity(detection(2, 2, 0.31), 100.0, c, o), 0);
+  // ...not once another known object is of that size too: a new object.
+  c[0].shared_size = true;
+  EXPECT_EQ(chooseIdentity(detection(2, 2, 0.31), 100.0, c, o), -1);
+  // Within far_match_distance a shared size still matches, by cost as before.
+  c[0].cx = 9.0;
+  EXPECT_EQ(chooseIdentity(detection(2, 2, 0.31), 100.0, c, o), 0);
+}
+
 }  // namespace
 }  // namespace dynamap

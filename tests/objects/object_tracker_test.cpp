@@ -186,6 +186,27 @@ TEST(ObjectTracker, AnObjectSeenInPlaceSecondsAgoIsNotTakenForOneThatMovedUnseen
   EXPECT_EQ(objectsAfterATwinAppearsBehind(0.0), 1);
 }
 
+// Object A (0.30 m) leaves its place and one of its size turns up 2.5 m away while object B,
+// of size `b_size`, stands in the room: a match farther than far_match_distance needs a size
+// no other known object has as nearly.
+std::size_t objectsAfterAFarMatch(double far_match_distance, double b_size) {
+  ObjectOptions o;
+  o.far_match_distance = far_match_distance;
+  TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
+  const mrpt::poses::CPose2D pose(-2.5, 0.0, 0.0);
+  run.steps(10, pose, {});
+  run.steps(15, pose, {{1.5, 1.2, 0.30}, {1.5, -1.2, b_size}});
+  run.steps(10, pose, {{1.5, -1.2, b_size}});  // A's place seen empty
+  run.steps(15, pose, {{1.5, -1.2, b_size}, {-0.5, -0.3, 0.30}});
+  return run.tracker.objects().size();
+}
+
+TEST(ObjectTracker, AFarMatchIsTakenOnlyForASizeNoOtherObjectShares) {
+  EXPECT_EQ(objectsAfterAFarMatch(10.0, 0.31), 2u);  // near enough: A moved
+  EXPECT_EQ(objectsAfterAFarMatch(2.0, 0.31), 3u);   // far, B of A's size: a new object
+  EXPECT_EQ(objectsAfterAFarMatch(2.0, 0.50), 2u);   // far, A's size its own: A moved
+}
+
 // The first report comes within 5 scans of D crossing the threshold on the object's cells
 // (once the scans show its whole outline), not confirm_scans later.
 std::size_t scansFromDToReport(int report_scans) {
@@ -259,6 +280,53 @@ TEST(ObjectTracker, AReportSeenGoneBeforeItSettledIsRetracted) {
   EXPECT_EQ(run.tracker.objects()[0].state, ObjectState::Retracted);
   EXPECT_FALSE(listedInTable(run.tracker.objects()[0].state));
   EXPECT_EQ(run.events(), (std::vector<ObjectEvent>{ObjectEvent::New, ObjectEvent::Retracted}));
+}
+
+// Two objects whose sizes differ by 3 cm (half the size tolerance) each move twice in turn,
+// the other seen in place meanwhile: every move goes to the right id, and none makes a new one.
+TEST(ObjectTracker, TwoObjectsThreeCentimetresApartInSizeKeepTheirIdsOverSeveralMoves) {
+  TrackerRun run;
+  const mrpt::poses::CPose2D pose(-2.5, 0.0, 0.0);
+  Cylinder a{0.5, 1.2, 0.30}, b{0.5, -1.2, 0.33};
+  run.steps(10, pose, {});
+  run.steps(15, pose, {a, b});
+  ASSERT_EQ(run.tracker.objects().size(), 2u);
+  const int id_a = run.tracker.objects()[0].shape.cy > 0 ? 1 : 2;
+  const int id_b = 3 - id_a;
+  const std::vector<std::pair<Cylinder*, Cylinder>> moves{{&a, {1.6, 0.6, 0.30}},
+                                                          {&b, {0.0, -0.4, 0.33}},
+                                                          {&a, {-0.8, 1.4, 0.30}},
+                                                          {&b, {1.8, -1.3, 0.33}}};
+  for (const auto& [which, to] : moves) {
+    run.steps(10, pose, {which == &a ? b : a});  // the mover's place seen empty
+    *which = to;
+    run.steps(15, pose, {a, b});
+  }
+  ASSERT_EQ(run.tracker.objects().size(), 2u);
+  for (const auto& [id, c] : {std::pair<int, Cylinder>{id_a, a}, {id_b, b}}) {
+    const TrackedObject& o = run.tracker.objects()[static_cast<std::size_t>(id - 1)];
+    EXPECT_EQ(o.state, ObjectState::Present) << id;
+    EXPECT_EQ(o.n_moves, 2) << id;
+    EXPECT_NEAR(o.shape.cx, c.x, 0.05) << id;
+    EXPECT_NEAR(o.shape.cy, c.y, 0.05) << id;
+  }
+}
+
+// An object put down 5 cm from a wall is reported, at its place and size; the wall behind it
+// yields no object.
+TEST(ObjectTracker, AnObjectFiveCentimetresFromAWallIsReportedAndTheWallIsNot) {
+  TrackerRun run;
+  const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+  const Cylinder c{3.0 - 0.05 - 0.15, 0.5, 0.30};  // the east wall is x = 3
+  run.steps(10, pose, {});
+  run.steps(20, pose, {c});
+  ASSERT_EQ(run.tracker.objects().size(), 1u);
+  const TrackedObject& o = run.tracker.objects()[0];
+  EXPECT_EQ(o.state, ObjectState::Present);
+  EXPECT_NEAR(o.shape.cx, c.x, 0.05);
+  EXPECT_NEAR(o.shape.cy, c.y, 0.05);
+  EXPECT_NEAR(o.shape.size, c.diameter, 0.05);
+  EXPECT_EQ(run.events(), (std::vector<ObjectEvent>{ObjectEvent::New}));
 }
 
 }  // namespace
