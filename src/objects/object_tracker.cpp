@@ -284,7 +284,7 @@ void ObjectTracker::revive(Track& place, Track& took, double t, std::size_t scan
   o.state = ObjectState::Present;
   o.last_seen_t = t;
   o.history.push_back({t, o.shape.cx, o.shape.cy});
-  place.state = Confirmed{id, st.shape.cx, st.shape.cy, st.best_cells, std::nullopt};
+  place.state = Confirmed{id, st.shape.cx, st.shape.cy, st.best_cells, std::nullopt, {}};
   emit(t, scan_index, o, ObjectEvent::Reappeared);
 }
 
@@ -317,8 +317,8 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
     // settled (it is all there, and the robot has seen enough of it to tell its size).
     tent->run.pass(tent->shape.size, options_.settle_size);
     double outline = 0, gap = 0;
-    if (measureOutline(view, key, tent->shape, outline, gap)) tent->addOutline(outline, gap);
-    if (tent->run.passes < options_.confirm_scans && tent->outlines < options_.report_scans) {
+    if (measureOutline(view, key, tent->shape, outline, gap)) tent->outline.add(outline, gap);
+    if (tent->run.passes < options_.confirm_scans && tent->outline.count < options_.report_scans) {
       continue;
     }
     if (confirm(key, view, t, scan_index)) {
@@ -392,8 +392,8 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
   ShapeEstimate s = tent.shape;
   double error = -1;
   if (!final) {  // the size its outline shows
-    s.size = tent.outlineSize();
-    error = tent.outlineError();
+    s.size = tent.outline.size();
+    error = tent.outline.error();
   }
   int id = pickIdentity(s, tent.exclude_id, error, view, t);
   if (id < 0) return false;
@@ -428,7 +428,7 @@ void ObjectTracker::claim(int key, int id, const ShapeEstimate& s, std::optional
     ev = back ? ObjectEvent::Reappeared : ObjectEvent::Moved;
     if (ev == ObjectEvent::Moved) ++o.n_moves;
   }
-  tracks_[key].state = Confirmed{id, s.cx, s.cy, s.cells, std::move(review)};
+  tracks_[key].state = Confirmed{id, s.cx, s.cy, s.cells, std::move(review), {}};
   TrackedObject& o = object(id);
   o.shape = s;
   o.state = ObjectState::Present;
@@ -506,7 +506,7 @@ void ObjectTracker::undoClaim(int key, ObjectState hidden, double t, std::size_t
     const Stale* st = kv.second.stale();
     if (!st || st->object_id != o.id || st->moved_to != key) continue;
     o.shape = st->shape;
-    kv.second.state = Confirmed{o.id, st->shape.cx, st->shape.cy, st->best_cells, std::nullopt};
+    kv.second.state = Confirmed{o.id, st->shape.cx, st->shape.cy, st->best_cells, std::nullopt, {}};
     return;
   }
   o.state = ObjectState::Absent;

@@ -53,19 +53,19 @@ void SettledRun::pass(double size, double settle_size) {
   passes = settled ? passes + 1 : 1;
 }
 
-void Tentative::addOutline(double size, double gap) {
-  const double w = 1.0 / std::max(gap * gap, 1e-6);
-  ++outlines;
-  outline_w += w;
-  outline_ws += w * size;
-  outline_wss += w * size * size;
-  outline_gap = outlines == 1 ? gap : std::min(outline_gap, gap);
+void OutlineSizes::add(double size, double g) {
+  const double weight = 1.0 / std::max(g * g, 1e-6);
+  ++count;
+  w += weight;
+  ws += weight * size;
+  wss += weight * size * size;
+  gap = count == 1 ? g : std::min(gap, g);
 }
 
-double Tentative::outlineError() const {
-  const double mean = outlineSize();
-  const double spread = std::sqrt(std::max(0.0, outline_wss / outline_w - mean * mean));
-  return std::max(spread, 0.5 * outline_gap) / std::sqrt(static_cast<double>(outlines));
+double OutlineSizes::error() const {
+  const double mean = size();
+  const double spread = std::sqrt(std::max(0.0, wss / w - mean * mean));
+  return std::max(spread, 0.5 * gap) / std::sqrt(static_cast<double>(count));
 }
 
 ShapeEstimate* Track::ownShape() {

@@ -33,6 +33,21 @@ struct SettledRun {
   void pass(double size, double settle_size);
 };
 
+/// Sizes fitted to the whole outline of an object, one per scan that showed it whole.
+struct OutlineSizes {
+  int count = 0;
+  /// Sums of weight w, w·size, w·size² over them; a size weighs 1 / (beam spacing)²: the
+  /// nearer the robot, the finer the outline.
+  double w = 0, ws = 0, wss = 0;
+  double gap = 0;  ///< [m] the smallest beam spacing among them
+  /// Add one outline of `size` [m] seen with beams `gap` [m] apart.
+  void add(double size, double gap);
+  /// Their weighted mean (count > 0), and its uncertainty: max(spread, half the finest beam
+  /// spacing) / sqrt(count).
+  double size() const { return ws / w; }
+  double error() const;
+};
+
 /// Not reported yet. It is reported, provisionally, once report_scans scans of its run of
 /// filter passes have shown its whole outline and the identity that outline's size gives holds
 /// for any size within its error; or, finally, after confirm_scans settled passes.
@@ -46,22 +61,11 @@ struct Tentative {
   bool kept_out = false;
   /// The sizes fitted to its whole outline, in the scans of this run that showed it whole
   /// (ObjectOptions::outline_jump): a first size before its cells have all crossed D.
-  int outlines = 0;
-  /// Sums of weight w, w·size, w·size² over them; a size weighs 1 / (beam spacing)²: the
-  /// nearer the robot, the finer the outline.
-  double outline_w = 0, outline_ws = 0, outline_wss = 0;
-  double outline_gap = 0;  ///< [m] the smallest beam spacing among them
-  /// Add one outline of `size` [m] seen with beams `gap` [m] apart.
-  void addOutline(double size, double gap);
-  /// Their weighted mean, and its uncertainty: max(spread, half the finest beam spacing) /
-  /// sqrt(count).
-  double outlineSize() const { return outline_ws / outline_w; }
-  double outlineError() const;
+  OutlineSizes outline;
   /// A run of passes broken: counting starts again.
   void restart() {
-    run.passes = outlines = 0;
-    outline_w = outline_ws = outline_wss = 0;
-    outline_gap = 0;
+    run.passes = 0;
+    outline = {};
   }
 };
 
@@ -82,6 +86,9 @@ struct Confirmed {
   double anchor_x = 0, anchor_y = 0;  ///< [m] where the last event placed it
   std::size_t best_cells = 0;         ///< most cells seen at this place: the size follows those
   std::optional<Review> review;       ///< set while its identity is provisional
+  /// Its whole outlines at this place (since its report or last move): once there are any,
+  /// the object's size is theirs, not its cells' (a part of it, or smeared while it glided).
+  OutlineSizes outline;
 };
 
 /// The cells object `object_id` left when its move was not seen: never reported. It ends when
