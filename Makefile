@@ -93,7 +93,7 @@ bench: build
 
 # Each config/scenarios/<name>.ini writes rawlogs/<name>/<name>.{rawlog,gt.txt,objects.csv,
 # moves.csv,world.png}; the SimBundled tests fail when the committed files are stale.
-SCENARIOS := arena corridors corridors_odom people tiny walkers
+SCENARIOS := arena corridors corridors_odom people tiny walkers storeroom
 scenarios: build
 	@for s in $(SCENARIOS); do \
 	  $(DYNAMAP) simulate --scenario config/scenarios/$$s.ini --out rawlogs/$$s || exit 1; \
@@ -102,7 +102,7 @@ scenarios: build
 # Each scenario is mapped with ground-truth poses into out/<name>/ and evaluated there
 # (report.md, metrics.json); then one table of all of them beside the paper's. The scenarios of
 # SCAN_MATCHING_SCENARIOS are mapped from their odometry corrected by scan matching instead.
-EVAL_SCENARIOS := arena corridors corridors_odom people walkers
+EVAL_SCENARIOS := arena corridors corridors_odom people walkers storeroom
 SCAN_MATCHING_SCENARIOS := corridors_odom
 eval: build
 	@for s in $(EVAL_SCENARIOS); do \

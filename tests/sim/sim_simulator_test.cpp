@@ -173,7 +173,7 @@ TEST(SimSimulator, AnotherSeedGivesOtherNoise) {
 
 // ---- the bundled scenarios ----------------------------------------------------------------
 
-const char* const kBundled[] = {"arena", "corridors", "corridors_odom", "people", "tiny", "walkers"};
+const char* const kBundled[] = {"arena", "corridors", "corridors_odom", "people", "tiny", "walkers", "storeroom"};
 
 std::string bundledDir(const std::string& name) {
   return std::string(DYNAMAP_SOURCE_DIR) + "/rawlogs/" + name;
