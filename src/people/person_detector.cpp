@@ -319,6 +319,47 @@ bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptio
   return false;
 }
 
+// Whether a beam of `h` passes through the cell of half-width `half` centred at (x, y) and
+// ends more than `margin` beyond it: the scan sees through what S holds there.
+bool seenThrough(const ScanHits& h, double x, double y, double half, double margin) {
+  if (h.angles.size() < 2) return false;
+  const double step = std::remainder(h.angles[1] - h.angles[0], 2 * M_PI);
+  if (std::abs(step) < 1e-9) return false;
+  const double dx = x - h.sensor_x, dy = y - h.sensor_y;
+  const double k = std::round(std::remainder(std::atan2(dy, dx) - h.angles[0], 2 * M_PI) / step);
+  if (k < 0 || k >= static_cast<double>(h.angles.size())) return false;
+  const auto i = static_cast<std::size_t>(k);
+  const bool cached = h.cosines.size() == h.angles.size() && h.sines.size() == h.angles.size();
+  const double c = cached ? h.cosines[i] : std::cos(h.angles[i]);
+  const double s = cached ? h.sines[i] : std::sin(h.angles[i]);
+  const double along = dx * c + dy * s, perp = std::abs(dx * s - dy * c);
+  if (along <= 0 || perp >= half) return false;
+  const double range = h.ranges[i] < 0 ? h.max_range : h.ranges[i];
+  return range > along + half + margin;
+}
+
+// Whether this scan sees through static_left_cells cells S holds occupied within
+// static_clearance of (x, y) (see PersonDetection::static_left).
+bool staticLeft(const DynamicGridMap& map, const ScanHits& hits, double x, double y,
+                const PeopleOptions& o) {
+  const double res = map.getResolution();
+  const int n = static_cast<int>(std::ceil(o.static_clearance / res));
+  const int cx = map.x2idx(x), cy = map.y2idx(y);
+  int seen = 0;
+  for (int dy = -n; dy <= n; ++dy) {
+    for (int dx = -n; dx <= n; ++dx) {
+      if ((dx * dx + dy * dy) * res * res > o.static_clearance * o.static_clearance) continue;
+      if (!map.isStaticOccupied(cx + dx, cy + dy)) continue;
+      const double x0 = map.getXMin() + (cx + dx + 0.5) * res;
+      const double y0 = map.getYMin() + (cy + dy + 0.5) * res;
+      if (seenThrough(hits, x0, y0, 0.5 * res, o.static_left_margin) &&
+          ++seen >= o.static_left_cells)
+        return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanHits& hits,
@@ -328,7 +369,10 @@ std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanH
       pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
   CellSet large;  // cells of S's walls met so far, for every detection
   BlobMarks seen(objectExtentCells(map, o));
-  for (PersonDetection& d : out) d.near_static = nearStatic(map, d.x, d.y, o, large, seen);
+  for (PersonDetection& d : out) {
+    d.near_static = nearStatic(map, d.x, d.y, o, large, seen);
+    d.static_left = staticLeft(map, hits, d.x, d.y, o);
+  }
   return out;
 }
 

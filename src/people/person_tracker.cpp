@@ -228,6 +228,8 @@ void PersonTracker::correct(PersonTrack& tr, const PersonDetection& d, double t)
   tr.detected_x = tr.filter.x();
   tr.detected_y = tr.filter.y();
   if (auto* tent = std::get_if<TentativeState>(&tr.state)) {
+    // Seen leaving a place S held: an object moving off, unless it walks off as legs.
+    if (d.static_left) tent->near_static = true;
     ++tent->detections;
     if (d.legs == 2) {
       ++tent->leg_pairs;
@@ -383,7 +385,7 @@ bool PersonTracker::nearStaticTrack(double x, double y, double t) const {
 }
 
 void PersonTracker::startTrack(const PersonDetection& d, double t) {
-  const bool near_static = d.near_static || nearStaticTrack(d.x, d.y, t);
+  const bool near_static = d.near_static || d.static_left || nearStaticTrack(d.x, d.y, t);
   PersonTrack tr{next_key_++, 0,
                  ConstantVelocityFilter(d.x, d.y, options_.measurement_std, kInitialVelocityStd),
                  TentativeState{t, d.x, d.y, near_static, t, d.x, d.y, 1,

@@ -84,6 +84,22 @@ TEST(PersonTracker, TwoLegsWalkingOffFromAnObjectsPlaceAreAPersonSoon) {
   EXPECT_GE(firstReported(walker(0), 10), 8.0);
 }
 
+// One cluster glides off at 1 m/s from where it appeared, by a wall (not near_static); its
+// place is seen empty from the second scan on (static_left on the next two detections): it must
+// keep moving confirm_static_s, like an object. Without static_left it is a person at once.
+TEST(PersonTracker, AClusterSeenLeavingAPlaceSHeldIsJudgedAsAnObjectMovingOff) {
+  auto glide = [](bool left) {
+    return [left](double t) {
+      PersonDetection d{t, 0, 0};
+      d.static_left = left && t > 0.1 && t < 0.5;
+      return std::vector<PersonDetection>{d};
+    };
+  };
+  EXPECT_LE(firstReported(glide(false), 6), 1.0);
+  EXPECT_EQ(firstReported(glide(true), 5.8), -1);
+  EXPECT_GE(firstReported(glide(true), 10), 6.0);
+}
+
 TEST(PersonTracker, LegsSeenAsAPairOneScanInTwoAreLegs) {
   // A walker seen across the beams: one leg hides the other every other scan. Walking off from
   // an object's place, it is a person after confirm_s, not confirm_static_s.

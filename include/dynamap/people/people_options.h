@@ -34,6 +34,13 @@ struct PeopleOptions {
   /// [m] a body S holds occupied counts for confirm_static_s when it fits in a square this
   /// wide (something that can be moved); larger ones are walls, which people walk along; [0, 10]
   double object_max_extent = 1.2;
+  /// [m] ...or, whatever its size, when the track's detections see through static_left_cells
+  /// cells S holds occupied within static_clearance, their beams ending this far beyond them:
+  /// something that stood there has left (an object 5 cm from a wall is one body with the wall
+  /// in S, but the wall is never seen through). Far above the cell size, so that a wall seen at
+  /// a grazing angle, whose cells a beam may clip, does not count; (0, 10]
+  double static_left_margin = 0.3;
+  int static_left_cells = 3;  ///< see static_left_margin; [1, 1000]
   double moving_speed = 0.25;     ///< [m/s] slower than this a track is not moving; [0, 10]
   double confirm_travel = 0.5;    ///< [m] ...and has gone this far from where it appeared; [0, 100]
   double tentative_miss_s = 0.6;  ///< [s] a tentative track unseen this long ends; (0, 60]

@@ -73,6 +73,11 @@ struct PersonDetection {
   /// wall), lies within static_clearance of it (set by detectPeople): it may be an object
   /// leaving the place it stood at.
   bool near_static = false;
+  /// This scan's beams pass through cells S holds occupied within static_clearance of it and
+  /// end well beyond them (set by detectPeople): something that stood there has just left, and
+  /// this may be it, moving off. Unlike near_static it tells an object that stood against a
+  /// wall (one body with the wall in S) from the wall, which is never seen through.
+  bool static_left = false;
 };
 /// Legs (clusters up to max_leg_width) are paired greedily, nearest pair first, when their
 /// centres are within leg_pair_distance: the person is at the pair's midpoint. An unpaired leg
