@@ -256,7 +256,7 @@ void ObjectTracker::checkStalePlaces(const ScanView& view, double t, std::size_t
     if (st->seen_occupied <= options_.confirm_scans + 4) continue;
     const auto took = tracks_.find(st->moved_to);
     if (took != tracks_.end() && took->second.objectId() == st->object_id) {
-      revive(tr, took->second, t, scan_index);
+      revive(tr, st->moved_to, view, t, scan_index);
       continue;
     }
     // Its object has moved on since: what is here is a new object, and never that one.
@@ -267,17 +267,14 @@ void ObjectTracker::checkStalePlaces(const ScanView& view, double t, std::size_t
   }
 }
 
-void ObjectTracker::revive(Track& place, Track& took, double t, std::size_t scan_index) {
+void ObjectTracker::revive(Track& place, int took, const ScanView& view, double t,
+                           std::size_t scan_index) {
   const Stale st = *place.stale();
   const int id = st.object_id;
-  const int other = newObject(t);
-  took.confirmed()->id = other;  // its shape moves with it, to its new row
-  if (took.confirmed()->review) took.confirmed()->review->claimed = false;  // a new object
-  TrackedObject& o2 = object(other);
-  o2.shape = object(id).shape;
-  o2.last_seen_t = object(id).last_seen_t;
-  o2.history.push_back({t, o2.shape.cx, o2.shape.cy});
-  emit(t, scan_index, o2, ObjectEvent::New);
+  Confirmed& c = *tracks_[took].confirmed();
+  const ShapeEstimate s = object(id).shape;  // the detection's: its row followed the track
+  std::optional<Review> review = std::move(c.review);
+  c.review.reset();
   TrackedObject& o = object(id);
   o.n_moves = std::max(0, o.n_moves - 1);  // the move was not one
   o.shape = st.shape;
@@ -286,6 +283,10 @@ void ObjectTracker::revive(Track& place, Track& took, double t, std::size_t scan
   o.history.push_back({t, o.shape.cx, o.shape.cy});
   place.state = Confirmed{id, st.shape.cx, st.shape.cy, st.best_cells, std::nullopt, {}};
   emit(t, scan_index, o, ObjectEvent::Reappeared);
+  // The detection is another object: the one that fits now (one seen gone since, say), or new.
+  const int other = pickIdentity(s, id, -1, view, t);
+  if (review) review->claimed = false;
+  claim(took, other, s, std::move(review), t, scan_index);
 }
 
 void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_t scan_index) {

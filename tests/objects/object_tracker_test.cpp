@@ -207,6 +207,39 @@ TEST(ObjectTracker, AFarMatchIsTakenOnlyForASizeNoOtherObjectShares) {
   EXPECT_EQ(objectsAfterAFarMatch(2.0, 0.50), 2u);   // far, A's size its own: A moved
 }
 
+// Objects A and B, both 0.30 m, out of view; A turns up behind the robot and is taken for B,
+// nearer. The robot turns back: A's place is seen empty, B's seen still occupied. B gets its
+// place back, and the detection the identity that fits now: A, moved; not a third object.
+TEST(ObjectTracker, ARevivedPlaceGivesItsDetectionTheIdentityThatFitsNow) {
+  ObjectOptions o;
+  o.min_unseen_s = 5;
+  TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
+  const mrpt::poses::CPose2D ahead(0.0, 0.0, 0.0), behind(0.0, 0.0, M_PI);
+  const Cylinder a{1.5, -1.0, 0.30}, b{1.5, 1.0, 0.30}, a_moved{-1.5, 0.5, 0.30};
+  run.steps(10, ahead, {});
+  run.steps(10, behind, {});
+  run.steps(15, ahead, {a, b});
+  ASSERT_EQ(run.tracker.objects().size(), 2u);
+  const int id_a = run.tracker.objects()[0].shape.cy < 0 ? 1 : 2;
+  const int id_b = 3 - id_a;
+  run.steps(40, behind, {a, b});  // 8 s out of view
+  run.steps(20, behind, {b, a_moved});
+  ASSERT_EQ(run.tracker.objects().size(), 2u);  // taken for B, the nearer
+  EXPECT_NEAR(run.tracker.objects()[id_b - 1].shape.cx, a_moved.x, 0.05);
+  run.steps(25, ahead, {b, a_moved});
+  ASSERT_EQ(run.tracker.objects().size(), 2u);
+  const TrackedObject& oa = run.tracker.objects()[id_a - 1];
+  const TrackedObject& ob = run.tracker.objects()[id_b - 1];
+  EXPECT_EQ(oa.state, ObjectState::Present);
+  EXPECT_NEAR(oa.shape.cx, a_moved.x, 0.05);
+  EXPECT_NEAR(oa.shape.cy, a_moved.y, 0.05);
+  EXPECT_EQ(oa.n_moves, 1);
+  EXPECT_EQ(ob.state, ObjectState::Present);
+  EXPECT_NEAR(ob.shape.cx, b.x, 0.05);
+  EXPECT_NEAR(ob.shape.cy, b.y, 0.05);
+  EXPECT_EQ(ob.n_moves, 0);
+}
+
 // The first report comes within 5 scans of D crossing the threshold on the object's cells
 // (once the scans show its whole outline), not confirm_scans later.
 std::size_t scansFromDToReport(int report_scans) {

@@ -139,9 +139,10 @@ class ObjectTracker {
   bool underReview(int id) const;
   /// Object `id` was found elsewhere (by track `moved_to`): its track becomes a stale place.
   void leavePlace(int id, int moved_to);
-  /// Stale `place` was seen occupied while `took` still holds its object's id: `took` becomes
-  /// a new object and `place` its object again.
-  void revive(Track& place, Track& took, double t, std::size_t scan_index);
+  /// Stale `place` was seen occupied while track `took` still holds its object's id: `place` is
+  /// its object again, and `took` gets the identity that fits it now (another known object,
+  /// one seen gone since say, or a new one).
+  void revive(Track& place, int took, const ScanView& view, double t, std::size_t scan_index);
   int newObject(double t);
   void emit(double t, std::size_t scan_index, const TrackedObject& o, ObjectEvent e);
   TrackedObject& object(int id) { return objects_[static_cast<std::size_t>(id - 1)]; }
