@@ -101,13 +101,14 @@ scenarios: build
 
 # Each scenario is mapped with ground-truth poses into out/<name>/ and evaluated there
 # (report.md, metrics.json); then one table of all of them beside the paper's. The scenarios of
-# SCAN_MATCHING_SCENARIOS are mapped from their odometry corrected by scan matching instead.
+# ODOMETRY_SCENARIOS are mapped from their odometry alone, with the pose graph (--poses slam,
+# what auto chooses for such a log).
 EVAL_SCENARIOS := arena corridors corridors_odom people walkers storeroom
-SCAN_MATCHING_SCENARIOS := corridors_odom
+ODOMETRY_SCENARIOS := corridors_odom
 eval: build
 	@for s in $(EVAL_SCENARIOS); do \
 	  poses=ground_truth; \
-	  case " $(SCAN_MATCHING_SCENARIOS) " in *" $$s "*) poses=scan_matching;; esac; \
+	  case " $(ODOMETRY_SCENARIOS) " in *" $$s "*) poses=slam;; esac; \
 	  $(DYNAMAP) map --config config/default.ini --poses $$poses \
 	    --input rawlogs/$$s/$$s.rawlog --out out/$$s || exit 1; \
 	  $(DYNAMAP) eval --scenario config/scenarios/$$s.ini --truth rawlogs/$$s/$$s \
