@@ -6,66 +6,84 @@
 
 namespace dynamap {
 
+namespace {
+
+using O = PeopleOptions;
+
+// The keys of the detector: which hits make a person.
+std::vector<Option<O>> detectorRows() {
+  return {
+      {"enabled", &O::enabled, {}, "", "track people at all (false: people.csv holds only its header)"},
+      {"cluster_distance", &O::cluster_distance, Range::openClosed(0, 1), "m",
+       "consecutive hit points this close form one cluster"},
+      {"min_points", &O::min_points, Range::closed(1, 100), "", "fewer hit points is no detection"},
+      {"max_leg_width", &O::max_leg_width, Range::openClosed(0, 2), "m",
+       "clusters up to this wide are legs"},
+      {"max_person_width", &O::max_person_width, Range::closed(0, 5), "m",
+       "wider clusters are no person (at least max_leg_width)"},
+      {"leg_pair_distance", &O::leg_pair_distance, Range::closed(0, 2), "m",
+       "two legs this close (centres) are one person"},
+      {"wall_guard_cells", &O::wall_guard_cells, Range::closed(0, 5), "",
+       "a hit this many cells near a cell S does not hold free is no detection"},
+  };
+}
+
+// The keys of the tracker: gates, confirmation, coasting, identities.
+std::vector<Option<O>> trackerRows() {
+  return {
+      {"gate", &O::gate, Range::openClosed(0, 5), "m",
+       "a detection farther than this from a track's prediction never updates it"},
+      {"accel_std", &O::accel_std, Range::openClosed(0, 100), "m/s^2",
+       "the constant-velocity model's process noise"},
+      {"measurement_std", &O::measurement_std, Range::openClosed(0, 1), "m",
+       "detection noise (twice this for a leg seen alone)"},
+      {"confirm_s", &O::confirm_s, Range::closed(0, 600), "s",
+       "a new track is a person after moving this long without a pause"},
+      {"confirm_static_s", &O::confirm_static_s, Range::closed(0, 600), "s",
+       "...this long when it appeared near an object (D's object cells, a small body of S; at least confirm_s), unless seen as two legs"},
+      {"static_clearance", &O::static_clearance, Range::closed(0, 2), "m",
+       "...this near (objects reported this near where such a track stood, gone when it walked off, were it)"},
+      {"object_max_extent", &O::object_max_extent, Range::closed(0, 10), "m",
+       "...of a body S holds that fits in a square this wide (larger ones are walls)"},
+      {"static_left_margin", &O::static_left_margin, Range::openClosed(0, 10), "m",
+       "...or of any body S holds, seen through by beams ending this far beyond its cells (it left)"},
+      {"static_left_cells", &O::static_left_cells, Range::closed(1, 1000), "",
+       "...this many of its cells"},
+      {"moving_speed", &O::moving_speed, Range::closed(0, 10), "m/s",
+       "a track slower than this is not moving"},
+      {"confirm_travel", &O::confirm_travel, Range::closed(0, 100), "m",
+       "...and it must go this far from where it started moving"},
+      {"tentative_miss_s", &O::tentative_miss_s, Range::openClosed(0, 60), "s",
+       "a tentative track unseen this long ends"},
+      {"coast_s", &O::coast_s, Range::openClosed(0, 600), "s",
+       "a person walking out of view is lost after this long (one standing: lost_s)"},
+      {"hold_radius", &O::hold_radius, Range::closed(0, 2), "m",
+       "a beam ending this near a lost person holds them (stopped)"},
+      {"lost_s", &O::lost_s, Range::closed(0, 3600), "s",
+       "a lost person's id is given back this long to a new track near their last detection, and a person who went out of view standing is kept this long; 0 = never"},
+      {"reid_distance", &O::reid_distance, Range::closed(0, 100), "m",
+       "...this near (the nearest lost person)"},
+      {"max_speed", &O::max_speed, Range::openClosed(0, 20), "m/s",
+       "...and within gate + this speed times the time since (nobody walks faster)"},
+      {"reacquire_s", &O::reacquire_s, Range::closed(0, 600), "s",
+       "a new track near a lost person (not near an object) is them after moving this long (at most confirm_s)"},
+      {"reacquire_travel", &O::reacquire_travel, Range::closed(0, 100), "m",
+       "...and gone this far (at most confirm_travel)"},
+      {"empty_scans", &O::empty_scans, Range::closed(1, 1000), "",
+       "a lost person's place seen empty this many scans in a row ends them"},
+      {"exclusion_radius", &O::exclusion_radius, Range::closed(0, 5), "m",
+       "no object is confirmed this near a person (their legs); 0 = off"},
+  };
+}
+
+}  // namespace
+
 const OptionTable<PeopleOptions>& PeopleOptions::table() {
-  using O = PeopleOptions;
-  static const OptionTable<O> t(
-      kSection,
-      {
-          {"enabled", &O::enabled, {}, "", "track people at all (false: people.csv holds only its header)"},
-          {"cluster_distance", &O::cluster_distance, Range::openClosed(0, 1), "m",
-           "consecutive hit points this close form one cluster"},
-          {"min_points", &O::min_points, Range::closed(1, 100), "", "fewer hit points is no detection"},
-          {"max_leg_width", &O::max_leg_width, Range::openClosed(0, 2), "m",
-           "clusters up to this wide are legs"},
-          {"max_person_width", &O::max_person_width, Range::closed(0, 5), "m",
-           "wider clusters are no person (at least max_leg_width)"},
-          {"leg_pair_distance", &O::leg_pair_distance, Range::closed(0, 2), "m",
-           "two legs this close (centres) are one person"},
-          {"wall_guard_cells", &O::wall_guard_cells, Range::closed(0, 5), "",
-           "a hit this many cells near a cell S does not hold free is no detection"},
-          {"gate", &O::gate, Range::openClosed(0, 5), "m",
-           "a detection farther than this from a track's prediction never updates it"},
-          {"accel_std", &O::accel_std, Range::openClosed(0, 100), "m/s^2",
-           "the constant-velocity model's process noise"},
-          {"measurement_std", &O::measurement_std, Range::openClosed(0, 1), "m",
-           "detection noise (twice this for a leg seen alone)"},
-          {"confirm_s", &O::confirm_s, Range::closed(0, 600), "s",
-           "a new track is a person after moving this long without a pause"},
-          {"confirm_static_s", &O::confirm_static_s, Range::closed(0, 600), "s",
-           "...this long when it appeared near an object (D's object cells, a small body of S; at least confirm_s), unless seen as two legs"},
-          {"static_clearance", &O::static_clearance, Range::closed(0, 2), "m",
-           "...this near (objects reported this near where such a track stood, gone when it walked off, were it)"},
-          {"object_max_extent", &O::object_max_extent, Range::closed(0, 10), "m",
-           "...of a body S holds that fits in a square this wide (larger ones are walls)"},
-          {"static_left_margin", &O::static_left_margin, Range::openClosed(0, 10), "m",
-           "...or of any body S holds, seen through by beams ending this far beyond its cells (it left)"},
-          {"static_left_cells", &O::static_left_cells, Range::closed(1, 1000), "",
-           "...this many of its cells"},
-          {"moving_speed", &O::moving_speed, Range::closed(0, 10), "m/s",
-           "a track slower than this is not moving"},
-          {"confirm_travel", &O::confirm_travel, Range::closed(0, 100), "m",
-           "...and it must go this far from where it started moving"},
-          {"tentative_miss_s", &O::tentative_miss_s, Range::openClosed(0, 60), "s",
-           "a tentative track unseen this long ends"},
-          {"coast_s", &O::coast_s, Range::openClosed(0, 600), "s",
-           "a person walking out of view is lost after this long (one standing: lost_s)"},
-          {"hold_radius", &O::hold_radius, Range::closed(0, 2), "m",
-           "a beam ending this near a lost person holds them (stopped)"},
-          {"lost_s", &O::lost_s, Range::closed(0, 3600), "s",
-           "a lost person's id is given back this long to a new track near their last detection, and a person who went out of view standing is kept this long; 0 = never"},
-          {"reid_distance", &O::reid_distance, Range::closed(0, 100), "m",
-           "...this near (the nearest lost person)"},
-          {"max_speed", &O::max_speed, Range::openClosed(0, 20), "m/s",
-           "...and within gate + this speed times the time since (nobody walks faster)"},
-          {"reacquire_s", &O::reacquire_s, Range::closed(0, 600), "s",
-           "a new track near a lost person (not near an object) is them after moving this long (at most confirm_s)"},
-          {"reacquire_travel", &O::reacquire_travel, Range::closed(0, 100), "m",
-           "...and gone this far (at most confirm_travel)"},
-          {"empty_scans", &O::empty_scans, Range::closed(1, 1000), "",
-           "a lost person's place seen empty this many scans in a row ends them"},
-          {"exclusion_radius", &O::exclusion_radius, Range::closed(0, 5), "m",
-           "no object is confirmed this near a person (their legs); 0 = off"},
-      });
+  static const OptionTable<O> t(kSection, [] {
+    std::vector<Option<O>> rows = detectorRows();
+    for (Option<O>& r : trackerRows()) rows.push_back(std::move(r));
+    return rows;
+  }());
   return t;
 }
 
