@@ -30,8 +30,12 @@ struct ScanView {
 ScanView makeScanView(const RangeData& rd, const mrpt::poses::CPose2D& robot);
 /// Whether the scan's beams crossed the disc (cx, cy, r) (SeenFree), ended in it
 /// (SeenOccupied), or never reached it (NotInView: out of range, out of the field of view, or
-/// hidden behind something nearer). `margin` [m] tolerates range noise and cell size.
-PlaceView viewOf(const ScanView& view, double cx, double cy, double r, double margin);
+/// hidden behind something nearer). `margin` [m] tolerates range noise and cell size. With
+/// `on_wall` (per beam: its hit lies on a wall, a cell S holds occupied), a wall hit within the
+/// margin of the disc's surface says nothing of it: a wall 5 cm from an object's place is no
+/// sign the object is still there.
+PlaceView viewOf(const ScanView& view, double cx, double cy, double r, double margin,
+                 const std::vector<char>* on_wall = nullptr);
 
 /// A run of consecutive beams whose hits lie on one surface: each hit within `jump` [m] of
 /// range of the one before. An end is an outline edge when the beam beyond it ends farther
