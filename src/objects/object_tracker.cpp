@@ -22,9 +22,9 @@ void ObjectTracker::update(const DynamicGridMap& map, const ScanView& view, doub
   foldChanges(map, dirty);
   // 2. Re-cluster around them only; clusters go to the track owning most of their cells.
   if (!dirty.empty()) recluster(map, dirty);
-  // 2b. This scan's hit points on them, for a finer size; its beams that end on walls.
+  // 2b. This scan's hit points on them, for a finer size.
   if (!view.empty()) sensor_x_ = view.x, sensor_y_ = view.y;
-  markWallBeams(map, view);
+  map_ = &map;  // for the walls viewOfShape asks about, during this update
   collectPoints(map, view);
   // 3. Objects whose cells all faded were seen gone: disappeared.
   dropLostTracks(t, scan_index);
@@ -37,23 +37,6 @@ void ObjectTracker::update(const DynamicGridMap& map, const ScanView& view, doub
   // 7. Present objects that drifted (a person walking) moved; refresh the table.
   checkDrift(t, scan_index);
   updateLastSeen(view, t);
-}
-
-void ObjectTracker::markWallBeams(const DynamicGridMap& map, const ScanView& view) {
-  const std::size_t n = view.ranges.size();
-  wall_beams_.assign(n, 0);
-  const bool cached = view.cosines.size() == n && view.sines.size() == n;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double r = view.ranges[i];
-    if (r < 0 || r >= view.max_range) continue;
-    double x, y;
-    if (cached) {
-      x = view.x + r * view.cosines[i], y = view.y + r * view.sines[i];
-    } else {
-      hitPoint(view, i, x, y);
-    }
-    wall_beams_[i] = map.isStaticOccupied(map.x2idx(x), map.y2idx(y));
-  }
 }
 
 void ObjectTracker::foldChanges(const DynamicGridMap& map, std::vector<CellKey>& dirty) {
@@ -680,7 +663,13 @@ bool ObjectTracker::withdraw(int id, double t, std::size_t scan_index) {
 
 PlaceView ObjectTracker::viewOfShape(const ScanView& view, const ShapeEstimate& s) const {
   const double margin = std::max(0.05, 2 * resolution_);  // range noise and the cell size
-  return viewOf(view, s.cx, s.cy, 0.5 * s.size, margin, &wall_beams_);
+  // A beam ending on a cell S holds occupied hit a wall, not the object.
+  const auto on_wall = [&](std::size_t i) {
+    double x, y;
+    hitPoint(view, i, x, y);
+    return map_ != nullptr && map_->isStaticOccupied(map_->x2idx(x), map_->y2idx(y));
+  };
+  return viewOf(view, s.cx, s.cy, 0.5 * s.size, margin, on_wall);
 }
 
 bool ObjectTracker::nearKeepOut(const ShapeEstimate& shape) const {

@@ -48,7 +48,7 @@ ScanView makeScanView(const RangeData& rd, const mrpt::poses::CPose2D& robot) {
 }
 
 PlaceView viewOf(const ScanView& v, double cx, double cy, double r, double margin,
-                 const std::vector<char>* on_wall) {
+                 const std::function<bool(std::size_t)>& on_wall) {
   if (v.empty()) return PlaceView::NotInView;
   const double dx = cx - v.x, dy = cy - v.y;
   const double d = std::hypot(dx, dy);
@@ -74,7 +74,7 @@ PlaceView viewOf(const ScanView& v, double cx, double cy, double r, double margi
     const double entry = along - std::sqrt(r * r - perp * perp);
     if (range < entry - margin) continue;  // hidden behind something nearer
     if (range <= entry + margin) {
-      if (on_wall && (*on_wall)[static_cast<std::size_t>(i)]) continue;
+      if (on_wall && on_wall(static_cast<std::size_t>(i))) continue;
       ++seen_occupied;
     } else {
       ++seen_free;  // the beam went past where the object's surface would be

@@ -371,7 +371,8 @@ std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanH
   BlobMarks seen(objectExtentCells(map, o));
   for (PersonDetection& d : out) {
     d.near_static = nearStatic(map, d.x, d.y, o, large, seen);
-    d.static_left = staticLeft(map, hits, d.x, d.y, o);
+    // Near a small body it is judged as an object may be already: the wall case is the one left.
+    d.static_left = !d.near_static && staticLeft(map, hits, d.x, d.y, o);
   }
   return out;
 }

@@ -124,13 +124,14 @@ TEST(ViewOf, AWallWithinTheMarginOfThePlaceIsNoSignOfTheObject) {
   ScanView v = wallView(1.0);
   setBeams(v, 85, 95, 1.75f);  // the partition, 5 cm before the disc's front at 1.8 m
   EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1), PlaceView::SeenOccupied);
-  std::vector<char> on_wall(v.ranges.size(), 0);
-  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1, &on_wall), PlaceView::SeenOccupied);
-  for (int i = 85; i <= 95; ++i) on_wall[static_cast<std::size_t>(i)] = 1;
-  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1, &on_wall), PlaceView::NotInView);
+  std::vector<char> wall(v.ranges.size(), 0);
+  const auto on_wall = [&](std::size_t i) { return wall[i] != 0; };
+  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1, on_wall), PlaceView::SeenOccupied);
+  for (int i = 85; i <= 95; ++i) wall[static_cast<std::size_t>(i)] = 1;
+  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1, on_wall), PlaceView::NotInView);
   // A wall hit beyond the place still shows it crossed, and so free.
   setBeams(v, 85, 95, 2.5f);
-  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1, &on_wall), PlaceView::SeenFree);
+  EXPECT_EQ(viewOf(v, 2.0, 0.0, 0.2, 0.1, on_wall), PlaceView::SeenFree);
 }
 
 TEST(ViewOf, PlacesOutOfRangeBehindOrAroundTheSensorAreNotInView) {

@@ -75,8 +75,6 @@ class ObjectTracker {
   /// every track that gained or lost cells.
   void recluster(const DynamicGridMap& map, const std::vector<CellKey>& dirty);
   void collectPoints(const DynamicGridMap& map, const ScanView& view);
-  /// wall_beams_: which of the scan's beams end on a cell S holds occupied.
-  void markWallBeams(const DynamicGridMap& map, const ScanView& view);
   /// Whether (x, y), up to rounding, may lie on a cell a track owns: false only when it surely
   /// does not (off the grid, or inside a cell no track owns, clear of its edges).
   bool onObjectCell(const DynamicGridMap& map, double x, double y) const;
@@ -166,7 +164,7 @@ class ObjectTracker {
   std::set<int> pending_;               // tentatives passing the filters
   std::set<int> reviewing_;             // reported tracks whose identity is provisional
   std::map<int, std::size_t> beam_on_;  // track key -> a beam of this scan ending on its cells
-  std::vector<char> wall_beams_;        // per beam of this scan: it ends on a wall (S occupied)
+  const DynamicGridMap* map_ = nullptr;  // the map of the update under way
   std::vector<TrackedObject> objects_;
   std::vector<EventRecord> events_;
   std::size_t events_before_update_ = 0;

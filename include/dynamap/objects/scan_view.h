@@ -4,6 +4,8 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "dynamap/base/range_data.h"
@@ -31,11 +33,11 @@ ScanView makeScanView(const RangeData& rd, const mrpt::poses::CPose2D& robot);
 /// Whether the scan's beams crossed the disc (cx, cy, r) (SeenFree), ended in it
 /// (SeenOccupied), or never reached it (NotInView: out of range, out of the field of view, or
 /// hidden behind something nearer). `margin` [m] tolerates range noise and cell size. With
-/// `on_wall` (per beam: its hit lies on a wall, a cell S holds occupied), a wall hit within the
-/// margin of the disc's surface says nothing of it: a wall 5 cm from an object's place is no
-/// sign the object is still there.
+/// `on_wall` (whether beam i's hit lies on a wall, a cell S holds occupied; asked only of beams
+/// ending at the disc's surface), a wall hit within the margin of the surface says nothing of
+/// it: a wall 5 cm from an object's place is no sign the object is still there.
 PlaceView viewOf(const ScanView& view, double cx, double cy, double r, double margin,
-                 const std::vector<char>* on_wall = nullptr);
+                 const std::function<bool(std::size_t)>& on_wall = {});
 
 /// A run of consecutive beams whose hits lie on one surface: each hit within `jump` [m] of
 /// range of the one before. An end is an outline edge when the beam beyond it ends farther

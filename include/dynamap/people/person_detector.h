@@ -76,7 +76,8 @@ struct PersonDetection {
   /// This scan's beams pass through cells S holds occupied within static_clearance of it and
   /// end well beyond them (set by detectPeople): something that stood there has just left, and
   /// this may be it, moving off. Unlike near_static it tells an object that stood against a
-  /// wall (one body with the wall in S) from the wall, which is never seen through.
+  /// wall (one body with the wall in S) from the wall, which is never seen through. Left false
+  /// when near_static, which holds a track to confirm_static_s already.
   bool static_left = false;
 };
 /// Legs (clusters up to max_leg_width) are paired greedily, nearest pair first, when their
