@@ -282,7 +282,7 @@ void ObjectTracker::revive(Track& place, int took, const ScanView& view, double 
   o.state = ObjectState::Present;
   o.last_seen_t = t;
   o.history.push_back({t, o.shape.cx, o.shape.cy});
-  place.state = Confirmed{id, st.shape.cx, st.shape.cy, st.best_cells, std::nullopt, {}};
+  place.state = Confirmed{id, st.shape.cx, st.shape.cy, st.best_cells, std::nullopt};
   emit(t, scan_index, o, ObjectEvent::Reappeared);
   // The detection is another object: the one that fits now (one seen gone since, say), or new.
   const int other = pickIdentity(s, id, -1, view, t);
@@ -430,7 +430,7 @@ void ObjectTracker::claim(int key, int id, const ShapeEstimate& s, std::optional
     ev = back ? ObjectEvent::Reappeared : ObjectEvent::Moved;
     if (ev == ObjectEvent::Moved) ++o.n_moves;
   }
-  tracks_[key].state = Confirmed{id, s.cx, s.cy, s.cells, std::move(review), {}};
+  tracks_[key].state = Confirmed{id, s.cx, s.cy, s.cells, std::move(review)};
   TrackedObject& o = object(id);
   o.shape = s;
   o.state = ObjectState::Present;
@@ -508,7 +508,7 @@ void ObjectTracker::undoClaim(int key, ObjectState hidden, double t, std::size_t
     const Stale* st = kv.second.stale();
     if (!st || st->object_id != o.id || st->moved_to != key) continue;
     o.shape = st->shape;
-    kv.second.state = Confirmed{o.id, st->shape.cx, st->shape.cy, st->best_cells, std::nullopt, {}};
+    kv.second.state = Confirmed{o.id, st->shape.cx, st->shape.cy, st->best_cells, std::nullopt};
     return;
   }
   o.state = ObjectState::Absent;

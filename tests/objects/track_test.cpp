@@ -16,7 +16,7 @@ TEST(Track, EachStateSaysWhichObjectItIsReportedAs) {
   Track tr;
   EXPECT_NE(tr.tentative(), nullptr);  // a new track is tentative
   EXPECT_EQ(tr.objectId(), 0);
-  tr.state = Confirmed{7, 1.0, 2.0, 12, std::nullopt, {}};
+  tr.state = Confirmed{7, 1.0, 2.0, 12, std::nullopt};
   EXPECT_EQ(tr.objectId(), 7);
   EXPECT_EQ(tr.tentative(), nullptr);
   EXPECT_FALSE(tr.isStale());

@@ -71,7 +71,7 @@ struct ObjectOptions {
   /// is the nearest to the detection's of all known objects, by far_size_margin: in a building
   /// full of things of one size a match across it is a guess. 10 m keeps every move of the
   /// bundled scenarios (up to 26 m across corridors, sizes 0.1 m apart) and cuts Freiburg 079's
-  /// moves of more than 10 m from 23 to 9; (0, 1e9]
+  /// moves of more than 10 m from 23 to 6; (0, 1e9]
   double far_match_distance = 10.0;
   /// [m] see far_match_distance: sizes fitted to hit points are good to about 2 cm, so another
   /// object less than this farther in size could as well be the one; [0, 5]

@@ -86,9 +86,6 @@ struct Confirmed {
   double anchor_x = 0, anchor_y = 0;  ///< [m] where the last event placed it
   std::size_t best_cells = 0;         ///< most cells seen at this place: the size follows those
   std::optional<Review> review;       ///< set while its identity is provisional
-  /// Its whole outlines at this place (since its report or last move): once there are any,
-  /// the object's size is theirs, not its cells' (a part of it, or smeared while it glided).
-  OutlineSizes outline;
 };
 
 /// The cells object `object_id` left when its move was not seen: never reported. It ends when
