@@ -299,24 +299,32 @@ bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
   return small;
 }
 
-bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptions& o,
-                CellSet& large, BlobMarks& seen) {
+// Calls f(cx, cy) for each cell whose centre lies within `radius` of (x, y)'s cell, row by row;
+// true as soon as f returns true.
+template <typename F>
+bool anyCellWithin(const DynamicGridMap& map, double x, double y, double radius, F&& f) {
   const double res = map.getResolution();
-  const int n = static_cast<int>(std::ceil(o.static_clearance / res));
-  const int extent = objectExtentCells(map, o);
+  const int n = static_cast<int>(std::ceil(radius / res));
   const int cx = map.x2idx(x), cy = map.y2idx(y);
   for (int dy = -n; dy <= n; ++dy) {
     for (int dx = -n; dx <= n; ++dx) {
-      if ((dx * dx + dy * dy) * res * res > o.static_clearance * o.static_clearance) continue;
-      // An object D holds, or a small body in S: something that stood here and may be moving
-      // off, not someone walking. A wall (a larger body of S) is passed by people all the time.
-      if (map.isObjectCell(cx + dx, cy + dy)) return true;
-      if (map.isStaticOccupied(cx + dx, cy + dy) && !large.count(cellKey(cx + dx, cy + dy)) &&
-          smallStaticBlob(map, cx + dx, cy + dy, extent, large, seen))
-        return true;
+      if ((dx * dx + dy * dy) * res * res > radius * radius) continue;
+      if (f(cx + dx, cy + dy)) return true;
     }
   }
   return false;
+}
+
+bool nearStatic(const DynamicGridMap& map, double x, double y, const PeopleOptions& o,
+                CellSet& large, BlobMarks& seen) {
+  const int extent = objectExtentCells(map, o);
+  return anyCellWithin(map, x, y, o.static_clearance, [&](int cx, int cy) {
+    // An object D holds, or a small body in S: something that stood here and may be moving
+    // off, not someone walking. A wall (a larger body of S) is passed by people all the time.
+    return map.isObjectCell(cx, cy) ||
+           (map.isStaticOccupied(cx, cy) && !large.count(cellKey(cx, cy)) &&
+            smallStaticBlob(map, cx, cy, extent, large, seen));
+  });
 }
 
 // Whether a beam of `h` passes through the cell of half-width `half` centred at (x, y) and
@@ -343,21 +351,13 @@ bool seenThrough(const ScanHits& h, double x, double y, double half, double marg
 bool staticLeft(const DynamicGridMap& map, const ScanHits& hits, double x, double y,
                 const PeopleOptions& o) {
   const double res = map.getResolution();
-  const int n = static_cast<int>(std::ceil(o.static_clearance / res));
-  const int cx = map.x2idx(x), cy = map.y2idx(y);
   int seen = 0;
-  for (int dy = -n; dy <= n; ++dy) {
-    for (int dx = -n; dx <= n; ++dx) {
-      if ((dx * dx + dy * dy) * res * res > o.static_clearance * o.static_clearance) continue;
-      if (!map.isStaticOccupied(cx + dx, cy + dy)) continue;
-      const double x0 = map.getXMin() + (cx + dx + 0.5) * res;
-      const double y0 = map.getYMin() + (cy + dy + 0.5) * res;
-      if (seenThrough(hits, x0, y0, 0.5 * res, o.static_left_margin) &&
-          ++seen >= o.static_left_cells)
-        return true;
-    }
-  }
-  return false;
+  return anyCellWithin(map, x, y, o.static_clearance, [&](int cx, int cy) {
+    if (!map.isStaticOccupied(cx, cy)) return false;
+    const double x0 = map.getXMin() + (cx + 0.5) * res, y0 = map.getYMin() + (cy + 0.5) * res;
+    return seenThrough(hits, x0, y0, 0.5 * res, o.static_left_margin) &&
+           ++seen >= o.static_left_cells;
+  });
 }
 
 }  // namespace
