@@ -81,7 +81,8 @@ demo: build
 	$(DYNAMAP) map --config config/default.ini --input $(DEMO_INPUT) --out $(DEMO_OUT)
 	@echo "dynamap: done; pictures in $(DEMO_OUT)/: static.png (the static map S), dynamic.png (D), overlay.png"
 
-# The readers timed after the insertion figures: one log of each format at hand.
+# The readers timed after the insertion figures: one log of each format at hand. Last, the fixed
+# cost of a run (the bundled tiny log) beside a process that only loads MRPT's grid library.
 MALAGA := /usr/share/mrpt/datasets/malaga-cs-fac-building.simplemap.gz
 BENCH_READS ?= $(BENCH_INPUT) rawlogs/people/people.rawlog $(wildcard $(MALAGA)) \
   fuzz/seeds/bag/small.bag
@@ -90,6 +91,8 @@ bench: build
 	@[ -f "$(FREIBURG)" ] || echo "dynamap: $(FREIBURG) not found, benchmarking the bundled corridors rawlog"
 	$(BUILD_DIR)/dynamap_bench --input $(BENCH_INPUT) $(BENCH_ARGS) $(addprefix --read ,$(BENCH_READS))
 	@[ ! -f "$(MALAGA)" ] || $(BUILD_DIR)/dynamap_bench --input $(MALAGA) $(BENCH_ARGS)
+	$(BUILD_DIR)/dynamap_bench_startup --dynamap $(DYNAMAP) --input rawlogs/tiny/tiny.rawlog \
+	  --config config/default.ini
 
 # Each config/scenarios/<name>.ini writes rawlogs/<name>/<name>.{rawlog,gt.txt,objects.csv,
 # moves.csv,world.png}; the SimBundled tests fail when the committed files are stale.
