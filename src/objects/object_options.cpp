@@ -22,6 +22,8 @@ const OptionTable<ObjectOptions>& ObjectOptions::table() {
            "larger clusters are not objects"},
           {"report_scans", &O::report_scans, Range::closed(1, 1000), "",
            "scans showing a new cluster's whole outline before it is reported, provisionally"},
+          {"report_errors", &O::report_errors, Range::closed(0, 10), "",
+           "...if its outlines' size names one object for any size within this many errors"},
           {"outline_jump", &O::outline_jump, Range::openClosed(0, 5), "m",
            "range step that ends an object's outline in a scan"},
           {"confirm_scans", &O::confirm_scans, Range::closed(1, 1000), "",

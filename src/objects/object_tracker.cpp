@@ -374,10 +374,10 @@ int ObjectTracker::pickIdentity(const ShapeEstimate& s, int exclude_id, double s
   identityCandidates(s, exclude_id, view, t, cands, ids);
   const int pick = chooseIdentity(s, t, cands, options_);
   if (slack > 0) {
-    // The choice must hold for any size within two errors of this one. Each candidate's cost
-    // is linear in the size on either side of its own, so the pairwise order changes
+    // The choice must hold for any size within `slack` of this one. Each candidate's cost is
+    // linear in the size on either side of its own, so the pairwise order changes
     // monotonically with it: the pick at both ends and at the middle is the pick throughout.
-    for (const double sign : {-2.0, 2.0}) {
+    for (const double sign : {-1.0, 1.0}) {
       ShapeEstimate end = s;
       end.size += sign * slack;
       if (chooseIdentity(end, t, cands, options_) != pick) return -1;
@@ -397,7 +397,7 @@ bool ObjectTracker::confirm(int key, const ScanView& view, double t, std::size_t
     s.size = tent.outline.size();
     error = tent.outline.error();
   }
-  int id = pickIdentity(s, tent.exclude_id, error, view, t);
+  int id = pickIdentity(s, tent.exclude_id, error * options_.report_errors, view, t);
   if (id < 0) return false;
   // Only an object still shown at a place out of sight fits: wait until that place is seen
   // (free: it moved here; occupied: this is another object), for at most defer_s.

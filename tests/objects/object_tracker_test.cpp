@@ -264,6 +264,35 @@ TEST(ObjectTracker, ANewObjectIsReportedWithinFiveScansOfDCrossingTheThreshold) 
   EXPECT_GT(scansFromDToReport(10), 5u);
 }
 
+// A first report's identity must hold for any size within report_errors of its outlines'
+// errors. An object seen gone that turns up elsewhere is reported at once as moved with the
+// default; with errors wide enough to leave size_tolerance ("a new object" at the ends) it
+// waits for more outlines, which shrink the error.
+std::size_t scansFromDToMoved(double report_errors) {
+  ObjectOptions o;
+  o.report_errors = report_errors;
+  TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
+  const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+  run.steps(10, pose, {});
+  run.steps(15, pose, {{1.0, 0.5, 0.4}});
+  run.steps(10, pose, {});  // taken away, seen gone
+  std::size_t crossed = 0;
+  for (int i = 0; i < 30 && run.events().back() != ObjectEvent::Moved; ++i) {
+    run.step(pose, {{0.5, -1.5, 0.4}});
+    if (!crossed && run.tracker.objectCellCount() > 0) crossed = run.index - 1;
+  }
+  EXPECT_GT(crossed, 0u);
+  EXPECT_EQ(run.events().back(), ObjectEvent::Moved);
+  EXPECT_EQ(run.tracker.objects().size(), 1u);
+  return run.index - 1 - crossed;
+}
+
+TEST(ObjectTracker, AFirstReportWaitsWhileTheIdentityCouldChangeWithinReportErrors) {
+  const std::size_t narrow = scansFromDToMoved(1);
+  EXPECT_LE(narrow, 5u);
+  EXPECT_GT(scansFromDToMoved(10), narrow);  // waits until ten errors fit the size tolerance
+}
+
 // A twin of an object appears behind the robot while the object is out of view: the twin is
 // first reported as the object, moved. Its old place is then seen still occupied before the
 // twin's size has settled: the report is relabeled to a new object, and the object keeps its

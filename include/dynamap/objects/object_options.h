@@ -23,9 +23,12 @@ struct ObjectOptions {
                           ///< (min_size, 20]
   /// a new cluster is reported, with a provisional identity, once this many scans of its run
   /// of filter passes have shown its whole outline (see outline_jump) and the identity the
-  /// outlines' size gives holds for any size within their error; else it waits for
-  /// confirm_scans; [1, confirm_scans]
+  /// outlines' size gives holds for any size within report_errors of their errors; else it
+  /// waits for confirm_scans; [1, confirm_scans]
   int report_scans = 2;
+  /// ...errors: 1 on 15 simulated worlds reports as rightly as 2 did and sooner (corridors'
+  /// median 2.0 -> 1.3 s); 0.5 named wrong objects on two of them; [0, 10]
+  double report_errors = 1;
   /// [m] a scan shows a cluster's whole outline when the beams on it form a run whose ranges
   /// step by at most this, both beams beside the run end farther than this behind it, and the
   /// run, fitted as one object, is no larger than max_size and holds the cluster; (0, 5]

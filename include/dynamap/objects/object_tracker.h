@@ -112,7 +112,8 @@ class ObjectTracker {
   void identityCandidates(const ShapeEstimate& s, int exclude_id, const ScanView& view, double t,
                           std::vector<IdentityCandidate>& cands, std::vector<int>& ids) const;
   /// The known object a detection of shape `s` is, or 0 for a new one. With `slack` > 0 [m]
-  /// (the error of s.size), -1 when a size two errors above or below would change the choice.
+  /// (report_errors times the error of s.size), -1 when a size `slack` above or below would
+  /// change the choice.
   int pickIdentity(const ShapeEstimate& s, int exclude_id, double slack, const ScanView& view,
                    double t) const;
   /// Reports tentative track `key` under an identity (new, moved, reappeared): before
