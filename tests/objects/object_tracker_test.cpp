@@ -240,6 +240,24 @@ TEST(ObjectTracker, ARevivedPlaceGivesItsDetectionTheIdentityThatFitsNow) {
   EXPECT_EQ(ob.n_moves, 0);
 }
 
+// Scans `c` from `pose` (at most 30) until the tracker's last event is `until`; the scans from
+// the first one that put an object cell in D to then.
+std::size_t scansFromDTo(TrackerRun& run, const mrpt::poses::CPose2D& pose, const Cylinder& c,
+                         ObjectEvent until) {
+  std::size_t crossed = 0;
+  for (int i = 0; i < 30 && (run.events().empty() || run.events().back() != until); ++i) {
+    run.step(pose, {c});
+    if (!crossed && run.tracker.objectCellCount() > 0) crossed = run.index - 1;
+  }
+  EXPECT_GT(crossed, 0u);
+  EXPECT_FALSE(run.events().empty());
+  if (!run.events().empty()) {
+    EXPECT_EQ(run.events().back(), until);
+  }
+  EXPECT_EQ(run.tracker.objects().size(), 1u);
+  return run.index - 1 - crossed;
+}
+
 // The first report comes within 5 scans of D crossing the threshold on the object's cells
 // (once the scans show its whole outline), not confirm_scans later.
 std::size_t scansFromDToReport(int report_scans) {
@@ -248,14 +266,7 @@ std::size_t scansFromDToReport(int report_scans) {
   TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
   const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
   run.steps(10, pose, {});
-  std::size_t crossed = 0;
-  for (int i = 0; i < 30 && run.tracker.objects().empty(); ++i) {
-    run.step(pose, {{1.0, 0.5, 0.4}});
-    if (!crossed && run.tracker.objectCellCount() > 0) crossed = run.index - 1;
-  }
-  EXPECT_GT(crossed, 0u);
-  EXPECT_EQ(run.tracker.objects().size(), 1u);
-  return run.index - 1 - crossed;
+  return scansFromDTo(run, pose, {1.0, 0.5, 0.4}, ObjectEvent::New);
 }
 
 TEST(ObjectTracker, ANewObjectIsReportedWithinFiveScansOfDCrossingTheThreshold) {
@@ -276,15 +287,7 @@ std::size_t scansFromDToMoved(double report_errors) {
   run.steps(10, pose, {});
   run.steps(15, pose, {{1.0, 0.5, 0.4}});
   run.steps(10, pose, {});  // taken away, seen gone
-  std::size_t crossed = 0;
-  for (int i = 0; i < 30 && run.events().back() != ObjectEvent::Moved; ++i) {
-    run.step(pose, {{0.5, -1.5, 0.4}});
-    if (!crossed && run.tracker.objectCellCount() > 0) crossed = run.index - 1;
-  }
-  EXPECT_GT(crossed, 0u);
-  EXPECT_EQ(run.events().back(), ObjectEvent::Moved);
-  EXPECT_EQ(run.tracker.objects().size(), 1u);
-  return run.index - 1 - crossed;
+  return scansFromDTo(run, pose, {0.5, -1.5, 0.4}, ObjectEvent::Moved);
 }
 
 TEST(ObjectTracker, AFirstReportWaitsWhileTheIdentityCouldChangeWithinReportErrors) {
