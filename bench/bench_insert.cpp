@@ -27,11 +27,14 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.h"
 #include "dynamap/input/open_source.h"
 #include "dynamap/mapping/dynamic_grid_map.h"
 #include "dynamap/pipeline/mapper.h"
 
 namespace {
+
+using dynamap::bench::median;
 
 // The calling thread's CPU time [s].
 double threadSeconds() {
@@ -84,11 +87,6 @@ mrpt::maps::COccupancyGridMap2D plainGrid() {
   plain.insertionOptions.horizontalTolerance =
       static_cast<float>(ins.horizontal_tolerance_deg * M_PI / 180.0);
   return plain;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 void benchInsertion(const std::string& input, const Loaded& l, int runs) {

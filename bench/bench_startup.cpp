@@ -26,7 +26,11 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.h"
+
 namespace {
+
+using dynamap::bench::median;
 
 struct Sample {
   double wall_s = 0;
@@ -56,12 +60,6 @@ bool runChild(const std::vector<std::string>& args, Sample& out) {
   out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.peak_kb = usage.ru_maxrss;
   return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
-
-template <typename T>
-T median(std::vector<T> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 struct Options {
