@@ -42,8 +42,9 @@ struct ObjectOptions {
   /// [m] D cells this close to a cell S does not hold free (wall, unknown) are wall noise:
   /// grazing beams free the cells along walls, then hits there feed D. On real logs, walls and
   /// furniture legs are registered to a few centimetres only: with 0.1 m, clusters beside them
-  /// "moved" again and again (Freiburg 079: 30 objects, 84 moves; 0.15 m: 18 and 45). Objects
-  /// 5 cm from a wall are still found at 0.15 m, not at 0.2 m (their back cells go); [0, 1]
+  /// "moved" again and again (Freiburg 079, report_errors 2: 30 objects, 84 moves; 0.15 m: 18
+  /// and 45). Objects 5 cm from a wall are still found at 0.15 m, not at 0.2 m (their back
+  /// cells go); [0, 1]
   double wall_hug_distance = 0.15;
   double thin_width = 0.02;  ///< [m] clusters thinner than this (std across their axis)...; [0, 1]
   double thin_length =
