@@ -77,28 +77,26 @@ LikelihoodField LikelihoodField::fromGrid(const mrpt::maps::COccupancyGridMap2D&
 
 void LikelihoodField::buildCoarse() {
   // Sliding maximum over kCoarse cells, along x, then along y. Index (i, j) of coarse_ is the
-  // block starting at fine cell (i - kCoarse, j - kCoarse).
+  // block starting at fine cell (i - kCoarse, j - kCoarse). Unknown cells and cells off the
+  // field count as 0, the maximum's start: each row is copied so, framed by kCoarse zeros, and
+  // the loops run without a check per cell (the compiler vectorises them).
   const int cw = w_ + kCoarse, ch = h_ + kCoarse;
   std::vector<std::uint8_t> along_x(static_cast<std::size_t>(cw) * h_, 0);
+  std::vector<std::uint8_t> row(static_cast<std::size_t>(w_ + 2 * kCoarse), 0);
   for (int y = 0; y < h_; ++y) {
-    for (int i = 0; i < cw; ++i) {
-      std::uint8_t m = 0;
-      for (int k = 0; k < kCoarse; ++k) {
-        const int x = i - kCoarse + k;
-        if (x >= 0 && x < w_ && fine_[x + y * w_] != kUnknown) m = std::max(m, fine_[x + y * w_]);
-      }
-      along_x[i + y * cw] = m;
+    const std::uint8_t* src = &fine_[static_cast<std::size_t>(y) * w_];
+    for (int x = 0; x < w_; ++x) row[kCoarse + x] = src[x] == kUnknown ? 0 : src[x];
+    std::uint8_t* out = &along_x[static_cast<std::size_t>(y) * cw];
+    for (int k = 0; k < kCoarse; ++k) {
+      for (int i = 0; i < cw; ++i) out[i] = std::max(out[i], row[i + k]);
     }
   }
   coarse_.assign(static_cast<std::size_t>(cw) * ch, 0);
   for (int j = 0; j < ch; ++j) {
-    for (int i = 0; i < cw; ++i) {
-      std::uint8_t m = 0;
-      for (int k = 0; k < kCoarse; ++k) {
-        const int y = j - kCoarse + k;
-        if (y >= 0 && y < h_) m = std::max(m, along_x[i + y * cw]);
-      }
-      coarse_[i + j * cw] = m;
+    std::uint8_t* out = &coarse_[static_cast<std::size_t>(j) * cw];
+    for (int y = std::max(0, j - kCoarse); y < std::min(h_, j); ++y) {
+      const std::uint8_t* in = &along_x[static_cast<std::size_t>(y) * cw];
+      for (int i = 0; i < cw; ++i) out[i] = std::max(out[i], in[i]);
     }
   }
 }

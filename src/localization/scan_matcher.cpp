@@ -155,12 +155,7 @@ mrpt::poses::CPose2D keepConstrained(const mrpt::poses::CPose2D& guess,
 
 namespace {
 
-/// The pose near `guess` (within search_xy_m in x and y, on the grid's cells, and search_deg in
-/// heading, in 0.5 degree steps) whose scan points lie best on S's occupied cells: each point
-/// scores 1 on an occupied cell, falling linearly to 0 at three cells away, through a distance
-/// field (two-pass chamfer) of the window the search can reach. A prior on the offset keeps
-/// flat directions (a straight corridor) and small gains from wall texture at the guess. Cost: the
-/// window's cells plus (headings x offsets x at most 120 points) lookups, never the map's size.
+// The grid search before ICP (correlativeGuess, below).
 constexpr int kReach = 3;  // [cells] a point scores down to 0 this far from an occupied cell
 
 /// The search's scores over a window of the grid: 1 on an occupied cell, falling linearly to 0
@@ -171,32 +166,47 @@ struct ScoreField {
   bool empty() const { return w <= 0 || h <= 0; }
 };
 
-/// Two-pass chamfer distance (1 / 1.4 cells) in place, over a w x h window.
-void chamfer(std::vector<float>& dist, int w, int h) {
-  auto relax = [&](int x, int y, int dx, int dy, float cost) {
-    const int nx = x + dx, ny = y + dy;
-    if (nx < 0 || ny < 0 || nx >= w || ny >= h) return;
-    float& d = dist[x + y * w];
-    d = std::min(d, dist[nx + ny * w] + cost);
-  };
+/// Two-pass chamfer distance (1 / 1.4 cells) in place, over a w x h window whose values are at
+/// most `cap`. The passes run over a copy framed by a border of `cap`: a border cell's value plus
+/// a step exceeds every value, so it never wins, exactly as a neighbour outside the window is
+/// skipped. Each row takes its minimum over the row before first (independent cells: the compiler
+/// vectorises it), then along itself; a minimum does not depend on the order it is taken in, so
+/// every value is the one the textbook cell-by-cell passes give.
+void chamfer(std::vector<float>& dist, int w, int h, float cap) {
+  const int pw = w + 2;
+  std::vector<float> pad(static_cast<std::size_t>(pw) * (h + 2), cap);
   for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      relax(x, y, -1, 0, 1.0f), relax(x, y, 0, -1, 1.0f);
-      relax(x, y, -1, -1, 1.4f), relax(x, y, 1, -1, 1.4f);
-    }
+    std::copy_n(dist.begin() + static_cast<std::ptrdiff_t>(y) * w, w,
+                pad.begin() + static_cast<std::ptrdiff_t>(y + 1) * pw + 1);
   }
-  for (int y = h - 1; y >= 0; --y) {
-    for (int x = w - 1; x >= 0; --x) {
-      relax(x, y, 1, 0, 1.0f), relax(x, y, 0, 1, 1.0f);
-      relax(x, y, 1, 1, 1.4f), relax(x, y, -1, 1, 1.4f);
+  for (int y = 1; y <= h; ++y) {
+    float* d = pad.data() + static_cast<std::ptrdiff_t>(y) * pw;
+    const float* up = d - pw;
+    for (int x = 1; x <= w; ++x) {
+      d[x] = std::min(std::min(d[x], up[x] + 1.0f), std::min(up[x - 1], up[x + 1]) + 1.4f);
     }
+    for (int x = 1; x <= w; ++x) d[x] = std::min(d[x], d[x - 1] + 1.0f);
+  }
+  for (int y = h; y >= 1; --y) {
+    float* d = pad.data() + static_cast<std::ptrdiff_t>(y) * pw;
+    const float* down = d + pw;
+    for (int x = w; x >= 1; --x) {
+      d[x] = std::min(std::min(d[x], down[x] + 1.0f), std::min(down[x + 1], down[x - 1]) + 1.4f);
+    }
+    for (int x = w; x >= 1; --x) d[x] = std::min(d[x], d[x + 1] + 1.0f);
+  }
+  for (int y = 0; y < h; ++y) {
+    std::copy_n(pad.begin() + static_cast<std::ptrdiff_t>(y + 1) * pw + 1, w,
+                dist.begin() + static_cast<std::ptrdiff_t>(y) * w);
   }
 }
 
 /// The field over every cell the sample's points can reach from `guess` shifted by up to
-/// `shift` cells, plus the field's own reach.
+/// `shift` cells, plus the field's own reach. `occupied` says, for each raw cell value, whether
+/// S holds that cell occupied.
 ScoreField scoreField(const DynamicGridMap& map, const std::vector<mrpt::math::TPoint2D>& sample,
-                      const mrpt::poses::CPose2D& guess, int shift, double occupied_threshold) {
+                      const mrpt::poses::CPose2D& guess, int shift,
+                      const OccupiedByRawValue& occupied) {
   double x0 = guess.x(), x1 = x0, y0 = guess.y(), y1 = y0;
   for (const auto& p : sample) {
     const mrpt::math::TPoint2D g = guess + p;
@@ -213,17 +223,37 @@ ScoreField scoreField(const DynamicGridMap& map, const std::vector<mrpt::math::T
   f.w = cx1 - f.cx0 + 1, f.h = cy1 - f.cy0 + 1;
   // Distance (in cells) to the nearest occupied cell, capped at kReach + 1.
   std::vector<float> dist(static_cast<std::size_t>(f.w) * f.h, static_cast<float>(kReach + 1));
+  const auto& raw = map.getRawMap();
   for (int y = 0; y < f.h; ++y) {
+    const std::size_t row = static_cast<std::size_t>(f.cy0 + y) * static_cast<std::size_t>(sx);
     for (int x = 0; x < f.w; ++x) {
-      if (map.staticOccupancy(f.cx0 + x, f.cy0 + y) > occupied_threshold) dist[x + y * f.w] = 0;
+      if (occupied(raw[row + static_cast<std::size_t>(f.cx0 + x)])) dist[x + y * f.w] = 0;
     }
   }
-  chamfer(dist, f.w, f.h);
+  chamfer(dist, f.w, f.h, static_cast<float>(kReach + 1));
   f.score.resize(dist.size());
   for (std::size_t i = 0; i < dist.size(); ++i) {
     f.score[i] = std::max(0.0f, 1.0f - dist[i] / static_cast<float>(kReach));
   }
   return f;
+}
+
+/// The sum of the field's scores under the sample's cells (px, py) moved by (dx, dy), in the
+/// sample's order; a cell outside the window scores 0. `inside`: every moved cell lies in the
+/// window, and `idx` holds the cells' indices (the same sum, without a check per point).
+double sampleScore(const ScoreField& f, const std::vector<int>& px, const std::vector<int>& py,
+                   const std::vector<int>& idx, int dx, int dy, bool inside) {
+  double sc = 0;
+  if (inside) {
+    const int offset = dx + dy * f.w;
+    for (const int i : idx) sc += f.score[static_cast<std::size_t>(i + offset)];
+    return sc;
+  }
+  for (std::size_t i = 0; i < px.size(); ++i) {
+    const int x = px[i] + dx, y = py[i] + dy;
+    if (x >= 0 && y >= 0 && x < f.w && y < f.h) sc += f.score[x + y * f.w];
+  }
+  return sc;
 }
 
 /// The pose near `guess` (within search_xy_m in x and y, on the grid's cells, and search_deg in
@@ -233,8 +263,8 @@ ScoreField scoreField(const DynamicGridMap& map, const std::vector<mrpt::math::T
 /// window's cells plus (headings x offsets x at most 120 points) lookups, never the map's size.
 mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
                                       const std::vector<mrpt::math::TPoint2D>& pts,
-                                      const mrpt::poses::CPose2D& guess,
-                                      const ScanMatchOptions& o) {
+                                      const mrpt::poses::CPose2D& guess, const ScanMatchOptions& o,
+                                      const OccupiedByRawValue& occupied) {
   const double res = map.getResolution();
   const int shift = static_cast<int>(std::floor(o.search_xy_m / res + 1e-9));
   const int turns = static_cast<int>(std::floor(o.search_deg / 0.5 + 1e-9));
@@ -242,28 +272,28 @@ mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
   std::vector<mrpt::math::TPoint2D> sample;  // up to 120 points, evenly through the scan
   const std::size_t stride = pts.size() / 120 + 1;
   for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
-  const ScoreField f = scoreField(map, sample, guess, shift, o.occupied_threshold);
+  const ScoreField f = scoreField(map, sample, guess, shift, occupied);
   if (f.empty()) return guess;
   // Odometry drifts little from one scan to the next: each cell of offset costs
   // search_offset_cost points squared, a turn to the search's edge a twentieth of the points.
   const double turn_prior = 0.05 * static_cast<double>(sample.size());
   double best = -1e300;
   int best_t = 0, best_x = 0, best_y = 0;
-  std::vector<int> px(sample.size()), py(sample.size());
+  std::vector<int> px(sample.size()), py(sample.size()), idx(sample.size());
   for (int t = -turns; t <= turns; ++t) {
     const mrpt::poses::CPose2D turned(guess.x(), guess.y(), guess.phi() + t * 0.5 * kDegToRad);
+    bool inside = true;
     for (std::size_t i = 0; i < sample.size(); ++i) {
       const mrpt::math::TPoint2D g = turned + sample[i];
       px[i] = map.x2idx(g.x) - f.cx0;
       py[i] = map.y2idx(g.y) - f.cy0;
+      idx[i] = px[i] + py[i] * f.w;
+      inside = inside && px[i] >= shift && py[i] >= shift && px[i] + shift < f.w &&
+               py[i] + shift < f.h;
     }
     for (int dy = -shift; dy <= shift; ++dy) {
       for (int dx = -shift; dx <= shift; ++dx) {
-        double sc = 0;
-        for (std::size_t i = 0; i < sample.size(); ++i) {
-          const int x = px[i] + dx, y = py[i] + dy;
-          if (x >= 0 && y >= 0 && x < f.w && y < f.h) sc += f.score[x + y * f.w];
-        }
+        double sc = sampleScore(f, px, py, idx, dx, dy, inside);
         sc -= o.search_offset_cost * (dx * dx + dy * dy) +
               (turns ? turn_prior * (t * t) / double(turns * turns) : 0.0);
         if (sc > best) best = sc, best_t = t, best_x = dx, best_y = dy;
@@ -342,7 +372,17 @@ void ScanMatchOptions::dumpToTextStream(std::ostream& out) const {
   writeIni(out);
 }
 
-ScanMatcher::ScanMatcher(const ScanMatchOptions& options) : options_(options) {
+OccupiedByRawValue::OccupiedByRawValue(double threshold) {
+  const long max = std::numeric_limits<Value>::max();
+  table_.resize(static_cast<std::size_t>(max - kMin + 1));
+  for (long v = kMin; v <= max; ++v) {
+    table_[static_cast<std::size_t>(v - kMin)] =
+        DynamicGridMap::staticOccupancyOfValue(static_cast<Value>(v)) > threshold;
+  }
+}
+
+ScanMatcher::ScanMatcher(const ScanMatchOptions& options)
+    : options_(options), occupied_(options.occupied_threshold) {
   options_.validate("scan matching options");
   requireIcpModule();  // a missing module stops the run before its first scan, not at it
 }
@@ -452,7 +492,7 @@ ScanMatchResult ScanMatcher::match(const DynamicGridMap& map, const RangeData& r
   }
   // 2. The occupied cells of S around where those points fall, seen from the guess moved to the
   //    best pose of a grid search: drift larger than the overlap gate is caught.
-  const mrpt::poses::CPose2D start = correlativeGuess(map, pts, guess, o);
+  const mrpt::poses::CPose2D start = correlativeGuess(map, pts, guess, o, occupied_);
   mrpt::maps::CSimplePointsMap reference, scan_map;
   std::vector<Eigen::Vector2d> normals;
   mapPoints(map, pts, start, o, reference, normals);

@@ -185,7 +185,8 @@ float DynamicGridMap::dynamicOccupancy(int cx, int cy) const {
 }
 
 float DynamicGridMap::staticOccupancy(int cx, int cy) const {
-  return 1.0f - getCell(cx, cy);
+  if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return 0.5f;
+  return staticOccupancyOfValue(m_map[cx + static_cast<std::size_t>(cy) * m_size_x]);
 }
 
 DynamicGridMap::CellCounts DynamicGridMap::countCells() const {

@@ -6,6 +6,7 @@
 #include <mrpt/math/wrap2pi.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "../test_util.h"
@@ -169,6 +170,32 @@ TEST(ScanMatcher, SameInputGivesTheSamePose) {
 }
 
 // The Mapper: odometry that drifts is corrected; a jump it cannot match falls back and is counted.
+// The search's table must say of every cell what staticOccupancy() > threshold says: checked on
+// a mapped room's cells (walls, free space, unknown) and on every value a cell can hold.
+TEST(OccupiedByRawValue, AgreesWithStaticOccupancyOnEveryCellAndValue) {
+  const DynamicGridMap map = mappedRoom(room());
+  for (const double threshold : {0.55, 0.6, 0.65, 0.9}) {
+    const OccupiedByRawValue occupied(threshold);
+    const auto& raw = map.getRawMap();
+    int agree = 0, occupied_cells = 0;
+    for (int cy = 0; cy < static_cast<int>(map.getSizeY()); ++cy) {
+      for (int cx = 0; cx < static_cast<int>(map.getSizeX()); ++cx) {
+        const bool expected = map.staticOccupancy(cx, cy) > threshold;
+        agree += occupied(raw[cx + cy * map.getSizeX()]) == expected;
+        occupied_cells += expected;
+      }
+    }
+    EXPECT_EQ(agree, static_cast<int>(map.getSizeX() * map.getSizeY())) << threshold;
+    EXPECT_GT(occupied_cells, 100) << threshold;  // the room's walls are there to be judged
+    using V = OccupiedByRawValue::Value;
+    for (long v = std::numeric_limits<V>::min(); v <= std::numeric_limits<V>::max(); ++v) {
+      ASSERT_EQ(occupied(static_cast<V>(v)),
+                DynamicGridMap::staticOccupancyOfValue(static_cast<V>(v)) > threshold)
+          << v;
+    }
+  }
+}
+
 TEST(ScanMatchingMapper, CorrectsDriftAndCountsFallbacks) {
   const auto world = room();
   MapConfig config;

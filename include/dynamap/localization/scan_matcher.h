@@ -18,7 +18,9 @@
 
 #include <cstddef>
 #include <iosfwd>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "dynamap/base/range_data.h"
 #include "dynamap/mapping/dynamic_grid_map.h"
@@ -114,6 +116,20 @@ struct ScanMatchResult {
   int degenerate_directions = 0;  ///< pose directions kept at the guess (see min_constraint)
 };
 
+/// Whether S holds a cell occupied, DynamicGridMap::staticOccupancy() above `threshold`, by the
+/// cell's raw value: worked out once for every value a cell can hold, so that a search over
+/// thousands of cells per scan reads a table instead of converting each log-odds.
+class OccupiedByRawValue {
+ public:
+  using Value = DynamicGridMap::cellType;
+  explicit OccupiedByRawValue(double threshold);
+  bool operator()(Value v) const { return table_[static_cast<std::size_t>(v - kMin)] != 0; }
+
+ private:
+  static constexpr long kMin = std::numeric_limits<Value>::min();
+  std::vector<unsigned char> table_;
+};
+
 class ScanMatcher {
  public:
   explicit ScanMatcher(const ScanMatchOptions& options);
@@ -129,6 +145,7 @@ class ScanMatcher {
 
  private:
   ScanMatchOptions options_;
+  OccupiedByRawValue occupied_;  ///< S's cells above options_.occupied_threshold
 };
 
 }  // namespace dynamap

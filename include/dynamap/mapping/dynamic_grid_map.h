@@ -77,6 +77,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   float dynamicOccupancy(int cx, int cy) const;
   /// P(occupied) of S at a cell (1 - getCell()); 0.5 outside the grid.
   float staticOccupancy(int cx, int cy) const;
+  /// staticOccupancy() of a cell of the grid whose raw value (getRawMap()) is `v`.
+  static float staticOccupancyOfValue(cellType v) { return 1.0f - l2p(v); }
   /// S's state that conditions the model: Free when P(occ) < free_threshold.
   bool isStaticFree(int cx, int cy) const {
     if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return false;
