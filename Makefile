@@ -2,7 +2,8 @@
 #
 #   make demo    install what is missing, build, map the bundled rawlog, say where the pictures are
 #   make test    install what is missing, build, run every test (ctest)
-#   make bench   install, build, time dynamap against plain MRPT grid insertion
+#   make bench   install, build, time dynamap against plain MRPT grid insertion, then the fixed
+#                cost of a run and the whole odometry-only (slam) run
 #   make deps    only install the Debian packages below (when any is missing)
 #   make build   only configure and build (Release) into build/
 #   make format  apply .clang-format to every source file
@@ -49,6 +50,9 @@ DEMO_OUT ?= out/people
 DATASETS ?= datasets
 FREIBURG := $(DATASETS)/carmen/freiburg-079-corrected.log.gz
 BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corridors.rawlog)
+# The odometry-only pipeline (--poses slam) is timed on Freiburg made to drift, or the bundled
+# corridors_odom's ground truth made to drift.
+SLAM_BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors_odom/corridors_odom.rawlog)
 
 .PHONY: all deps configure build test demo bench format clean scenarios eval eval-heldout test-asan fuzz \
   fuzz-deps bench-long compare-icp-slam
@@ -93,6 +97,7 @@ bench: build
 	@[ ! -f "$(MALAGA)" ] || $(BUILD_DIR)/dynamap_bench --input $(MALAGA) $(BENCH_ARGS)
 	$(BUILD_DIR)/dynamap_bench_startup --dynamap $(DYNAMAP) --input rawlogs/tiny/tiny.rawlog \
 	  --config config/default.ini
+	$(BUILD_DIR)/dynamap_bench_slam --dynamap $(DYNAMAP) --input $(SLAM_BENCH_INPUT)
 
 # Each config/scenarios/<name>.ini writes rawlogs/<name>/<name>.{rawlog,gt.txt,objects.csv,
 # moves.csv,world.png}; the SimBundled tests fail when the committed files are stale.

@@ -13,12 +13,9 @@
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -26,41 +23,14 @@
 #include <string>
 #include <vector>
 
+#include "bench_child.h"
 #include "bench_stats.h"
 
 namespace {
 
+using dynamap::bench::ChildSample;
 using dynamap::bench::median;
-
-struct Sample {
-  double wall_s = 0;
-  long peak_kb = 0;
-};
-
-/// Runs `args` (args[0] a path) with stdout and stderr to /dev/null; false when it could not be
-/// started or did not exit with 0.
-bool runChild(const std::vector<std::string>& args, Sample& out) {
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  const auto start = std::chrono::steady_clock::now();
-  const pid_t pid = fork();
-  if (pid < 0) return false;
-  if (pid == 0) {
-    if (std::freopen("/dev/null", "w", stdout) == nullptr ||
-        std::freopen("/dev/null", "w", stderr) == nullptr) {
-      _exit(126);
-    }
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  rusage usage{};
-  if (wait4(pid, &status, 0, &usage) != pid) return false;
-  out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  out.peak_kb = usage.ru_maxrss;
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
+using dynamap::bench::runChild;
 
 struct Options {
   std::string self, dynamap, input, config;
@@ -112,10 +82,10 @@ int main(int argc, char** argv) {
       {"map",
        {o.dynamap, "map", "--no-baseline", "--poses", "ground_truth", "--config", o.config,
         "--input", o.input, "--out", std::string(dir) + "/out"}}};
-  std::vector<std::vector<Sample>> samples(kinds.size());
+  std::vector<std::vector<ChildSample>> samples(kinds.size());
   for (int r = 0; r < o.runs; ++r) {
     for (std::size_t k = 0; k < kinds.size(); ++k) {
-      Sample s;
+      ChildSample s;
       if (!runChild(kinds[k].second, s)) {
         std::fprintf(stderr, "dynamap_bench_startup: %s failed\n", kinds[k].second[0].c_str());
         std::filesystem::remove_all(dir);
@@ -130,7 +100,7 @@ int main(int argc, char** argv) {
   for (std::size_t k = 0; k < kinds.size(); ++k) {
     std::vector<double> wall;
     std::vector<long> peak;
-    for (const Sample& s : samples[k]) wall.push_back(s.wall_s), peak.push_back(s.peak_kb);
+    for (const ChildSample& s : samples[k]) wall.push_back(s.wall_s), peak.push_back(s.peak_kb);
     std::printf("  %-10s %6.3f s  %6.1f MB\n", kinds[k].first.c_str(), median(wall),
                 static_cast<double>(median(peak)) / 1024.0);
   }
