@@ -436,11 +436,13 @@ void printTable(std::ostream& o, const Evaluation& ev) {
     << (ev.have_people ? "" : "  (no people.csv in the result)") << "\n"
     << "  MOTA " << num(m.mota, 3, "n/a") << "   MOTP " << num(m.motp_m, 3, "n/a") << " m   "
     << m.ground_truth << " person-scans: " << m.matches << " matched, " << m.misses << " missed, "
-    << m.false_positives << " false positives, " << m.id_switches << " identity switches; "
+    << m.false_positives << " false positives, " << m.id_switches << " identity switches ("
+    << m.id_switches_at_stops << " at a stop); "
     << m.people << " persons, " << m.track_ids << " track ids\n";
   for (const IdSwitch& w : m.switches) {
     o << "    identity switch at scan " << w.scan_index << " (t " << num(w.t, 1, "n/a")
-      << " s): person " << w.person << " from track " << w.from_id << " to " << w.to_id << "\n";
+      << " s): person " << w.person << " from track " << w.from_id << " to " << w.to_id
+      << (w.at_stop ? ", at a stop" : "") << "\n";
   }
   for (const auto& n : ev.notes) o << "  note: " << n << "\n";
 }
@@ -531,6 +533,7 @@ Json peopleAndPosesJson(const Evaluation& ev) {
           {"mot_misses", ev.mot.misses},
           {"mot_false_positives", ev.mot.false_positives},
           {"mot_id_switches", ev.mot.id_switches},
+          {"mot_id_switches_at_stops", ev.mot.id_switches_at_stops},
           {"mot_track_ids", ev.mot.track_ids},
           {"ate_rmse_xy_m", pose(ev.trajectory.rmse_xy_m, 4)},
           {"ate_rmse_phi_deg", pose(ev.trajectory.rmse_phi_rad * deg, 3)},
@@ -669,6 +672,7 @@ const SummaryRow kSummaryRows[] = {
     {"people MOTA", "mota", nullptr},
     {"people MOTP (m)", "motp_m", nullptr},
     {"people identity switches", "mot_id_switches", nullptr},
+    {"people switches at a stop", "mot_id_switches_at_stops", nullptr},
     {"people misses", "mot_misses", nullptr},
     {"people false positives", "mot_false_positives", nullptr},
 };

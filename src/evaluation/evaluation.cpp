@@ -515,6 +515,37 @@ std::vector<int> matchFrame(const MotFrame& f, const std::map<int, int>& last, d
   return match;
 }
 
+/// When each person of the truth stood still: [first, last] time of each stop (MotOptions).
+std::map<int, std::vector<std::pair<double, double>>> personStops(
+    const std::vector<TruthRow>& truth, const MotOptions& o) {
+  std::map<int, std::vector<const TruthRow*>> rows;
+  for (const TruthRow& r : truth) {
+    if (r.kind == sim::BodyKind::Person) rows[r.id].push_back(&r);
+  }
+  std::map<int, std::vector<std::pair<double, double>>> stops;
+  for (auto& [id, v] : rows) {
+    std::stable_sort(v.begin(), v.end(), [](const TruthRow* a, const TruthRow* b) {
+      return a->scan_index < b->scan_index;
+    });
+    std::size_t first = 0;  // the run of rows within stop_radius_m of v[first]
+    for (std::size_t i = 1; i <= v.size(); ++i) {
+      if (i < v.size() &&
+          std::hypot(v[i]->x - v[first]->x, v[i]->y - v[first]->y) <= o.stop_radius_m) {
+        continue;
+      }
+      if (v[i - 1]->t - v[first]->t >= o.stop_min_s) stops[id].emplace_back(v[first]->t, v[i - 1]->t);
+      first = i;
+    }
+  }
+  return stops;
+}
+
+bool atStop(const std::vector<std::pair<double, double>>& stops, double t, const MotOptions& o) {
+  return std::any_of(stops.begin(), stops.end(), [&](const std::pair<double, double>& s) {
+    return t >= s.first && t <= s.second + o.after_stop_s;
+  });
+}
+
 }  // namespace
 
 MotScores evaluateClearMot(const std::vector<TruthRow>& truth,
@@ -528,6 +559,7 @@ MotScores evaluateClearMot(const std::vector<TruthRow>& truth,
     if (it != frames.end()) it->second.tracks.push_back(&r);
   }
   MotScores s;
+  const auto stops = personStops(truth, o);
   std::map<int, int> last;  // person -> the track it was last matched to
   std::set<int> people, ids;
   double sum = 0;
@@ -550,7 +582,10 @@ MotScores evaluateClearMot(const std::vector<TruthRow>& truth,
       const auto it = last.find(p.id);
       if (it != last.end() && it->second != t.person_id) {
         ++s.id_switches;
-        s.switches.push_back({scan, p.t, p.id, it->second, t.person_id});
+        const auto st = stops.find(p.id);
+        const bool at_stop = st != stops.end() && atStop(st->second, p.t, o);
+        s.id_switches_at_stops += at_stop;
+        s.switches.push_back({scan, p.t, p.id, it->second, t.person_id, at_stop});
       }
       last[p.id] = t.person_id;
     }

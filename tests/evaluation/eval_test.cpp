@@ -577,6 +577,37 @@ TEST(ClearMot, CountsMatchesMissesFalsePositivesAndSwitches) {
   EXPECT_EQ(s.track_ids, 4u);
 }
 
+// A walker at 1 m/s (5 scans/s) who stands 3 s at x = 2 and then walks on: a switch as they walk
+// off is at a stop, one 10 s later is not, nor one just after the walker turns back (no stop).
+TEST(ClearMot, SwitchesWhileStandingOrWalkingOffAreAtAStop) {
+  std::vector<TruthRow> truth;
+  std::vector<PersonTrackRow> tracks;
+  double x = 0;
+  for (std::size_t k = 0; k < 150; ++k) {
+    const double t = 0.2 * static_cast<double>(k);
+    if (t >= 2.0 && t < 5.0) {
+      x = 2.0;  // standing
+    } else {
+      x = t < 2.0 ? t : (t < 20.0 ? 2.0 + (t - 5.0) : 17.0 - (t - 20.0));  // back from x = 17
+    }
+    TruthRow r = personAt(k, 1, x, 0);
+    r.t = t;
+    truth.push_back(r);
+    // Track 1 until 5.4 s (walking off), 2 until 15 s, 3 until 20.4 s (after the turn), then 4.
+    const int id = t < 5.4 ? 1 : (t < 15.0 ? 2 : (t < 20.4 ? 3 : 4));
+    tracks.push_back({k, id, x, 0});
+  }
+  const MotScores s = evaluateClearMot(truth, tracks);
+  ASSERT_EQ(s.id_switches, 3u);
+  EXPECT_EQ(s.id_switches_at_stops, 1u);
+  EXPECT_TRUE(s.switches[0].at_stop);   // 5.4 s: walking off, 0.4 s after the stop
+  EXPECT_FALSE(s.switches[1].at_stop);  // 15 s: 10 s after it
+  EXPECT_FALSE(s.switches[2].at_stop);  // 20.4 s: the turn at x = 17 is no stop
+  MotOptions o;
+  o.after_stop_s = 0.2;  // a shorter walking-off window leaves the first switch out too
+  EXPECT_EQ(evaluateClearMot(truth, tracks, o).id_switches_at_stops, 0u);
+}
+
 TEST(ClearMot, TrackBeyondTheGateIsAMissAndAFalsePositive) {
   const std::vector<TruthRow> truth = {personAt(0, 1, 0, 0)};
   const std::vector<PersonTrackRow> tracks = {{0, 1, 0.8, 0}};

@@ -243,6 +243,12 @@ struct PersonTrackRow {
 struct MotOptions {
   double gate_m = 0.75;     ///< a track farther than this from a person never matches it
   int min_visible_hits = 3;  ///< a person with fewer beams on them is not counted
+  /// A person of the truth stops where they stay within stop_radius_m of where they stood
+  /// still for at least stop_min_s (a turn at a path's end is no stop); a switch from their
+  /// stop's first scan to after_stop_s after its last (walking off) is a switch at a stop.
+  double stop_radius_m = 0.02;
+  double stop_min_s = 2.0;
+  double after_stop_s = 5.0;
 };
 
 /// A person of the truth matched to another track id than in the scan they were last matched.
@@ -251,6 +257,7 @@ struct IdSwitch {
   double t = 0;  ///< simulated seconds
   int person = 0;
   int from_id = 0, to_id = 0;  ///< the track ids before and after
+  bool at_stop = false;        ///< while the person stood still, or walking off (MotOptions)
 };
 
 /// CLEAR MOT (Bernardin & Stiefelhagen 2008) over the scans of the truth. Per scan a person
@@ -260,6 +267,7 @@ struct IdSwitch {
 struct MotScores {
   std::size_t ground_truth = 0;  ///< person-scans counted
   std::size_t matches = 0, misses = 0, false_positives = 0, id_switches = 0;
+  std::size_t id_switches_at_stops = 0;  ///< of id_switches, those at a stop
   double mota = 0;    ///< 1 - (misses + false positives + id switches) / ground truth
   double motp_m = 0;  ///< mean distance of the matches
   std::size_t people = 0;  ///< persons of the truth seen at all
