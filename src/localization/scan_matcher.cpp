@@ -7,10 +7,12 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
+#include <unordered_map>
 #include <vector>
 
 #include "dynamap/base/ini.h"
@@ -314,7 +316,7 @@ const OptionTable<ScanMatchOptions>& ScanMatchOptions::table() {
           {"occupied_threshold", &O::occupied_threshold, Range::open(0.5, 1), "",
            "S cells above this P(occ) are matched against"},
           {"window_margin_m", &O::window_margin_m, Range::closed(0, 5), "m",
-           "S is searched this far around the scan's end points"},
+           "MRPT's ICP: S is searched this far around the scan's end points"},
           {"min_map_points", &O::min_map_points, Range::closed(3, 100000), "",
            "fewer occupied S cells near the scan: odometry is used"},
           {"min_scan_points", &O::min_scan_points, Range::closed(3, 100000), "",
@@ -342,6 +344,10 @@ const OptionTable<ScanMatchOptions>& ScanMatchOptions::table() {
           {"search_deg", &O::search_deg, Range::closed(0, 20), "deg", "...and in heading"},
           {"search_offset_cost", &O::search_offset_cost, Range::closed(0, 1000), "",
            "score (scan points) a search pose loses per cell^2 of offset"},
+          {"point_to_line", &O::point_to_line, Range{}, "",
+           "point-to-line ICP on S's cells (false: MRPT's point-to-point ICP)"},
+          {"line_distance_m", &O::line_distance_m, Range::openClosed(0, 1), "m",
+           "point-to-line ICP pairs a point with a wall this close"},
       });
   return t;
 }
@@ -472,6 +478,190 @@ void accept(const mrpt::poses::CPose2D& guess, const mrpt::poses::CPose2D& match
   }
 }
 
+/// S's walls cell by cell, each worked out when first asked for: where in the cell the wall
+/// runs and its normal (cellWall), as mapPoints places its reference points.
+class WallCells {
+ public:
+  WallCells(const DynamicGridMap& map, double occupied_threshold)
+      : map_(map),
+        raw_(map.getRawMap()),
+        sx_(static_cast<int>(map.getSizeX())),
+        sy_(static_cast<int>(map.getSizeY())),
+        occupied_below_(mrpt::maps::COccupancyGridMap2D::p2l(
+            static_cast<float>(1.0 - occupied_threshold))) {}
+
+  /// The wall point q and unit normal n (zero where the cells do not line up) of the occupied
+  /// cell within `reach` cells of (x, y) whose wall point is nearest to it, no farther than
+  /// sqrt(max_d2); false if there is none.
+  bool nearest(double x, double y, int reach, double max_d2, Eigen::Vector2d& q,
+               Eigen::Vector2d& n) {
+    const int px = map_.x2idx(x), py = map_.y2idx(y);
+    const Wall* best = nullptr;
+    double best_d2 = max_d2;
+    for (int cy = std::max(0, py - reach); cy <= std::min(sy_ - 1, py + reach); ++cy) {
+      for (int cx = std::max(0, px - reach); cx <= std::min(sx_ - 1, px + reach); ++cx) {
+        if (weight(cx, cy) == 0) continue;
+        const Wall& w = wall(cx, cy);
+        const double d2 = (w.q - Eigen::Vector2d(x, y)).squaredNorm();
+        if (d2 <= best_d2) best_d2 = d2, best = &w;
+      }
+    }
+    if (best == nullptr) return false;
+    q = best->q, n = best->n;
+    return true;
+  }
+  /// Occupied cells asked for so far.
+  std::size_t cells() const { return cache_.size(); }
+
+  struct Wall {
+    Eigen::Vector2d q, n;
+  };
+  /// Appends the walls of the occupied cells within `reach` cells of cell (px, py) to `out`
+  /// (pointers stay valid: the cache never moves an entry).
+  void gather(int px, int py, int reach, std::vector<const Wall*>& out) {
+    for (int cy = std::max(0, py - reach); cy <= std::min(sy_ - 1, py + reach); ++cy) {
+      for (int cx = std::max(0, px - reach); cx <= std::min(sx_ - 1, px + reach); ++cx) {
+        if (weight(cx, cy) != 0) out.push_back(&wall(cx, cy));
+      }
+    }
+  }
+  int cellX(double x) const { return map_.x2idx(x); }
+  int cellY(double y) const { return map_.y2idx(y); }
+
+ private:
+  int weight(int cx, int cy) const {
+    const int v = raw_[static_cast<std::size_t>(cy) * sx_ + cx];
+    return v < occupied_below_ ? occupied_below_ - v : 0;
+  }
+  const Wall& wall(int cx, int cy) {
+    const auto [it, added] = cache_.try_emplace(cx + cy * sx_);
+    if (added) {
+      const CellWall cw = cellWall(cx, cy, sx_, sy_, [this](int x, int y) { return weight(x, y); });
+      const double res = map_.getResolution();
+      it->second.q = {map_.idx2x(cx) + res * cw.wx / cw.w_sum, map_.idx2y(cy) + res * cw.wy / cw.w_sum};
+      it->second.n = cw.normal;
+    }
+    return it->second;
+  }
+  const DynamicGridMap& map_;
+  const std::vector<DynamicGridMap::cellType>& raw_;
+  int sx_, sy_, occupied_below_;
+  std::unordered_map<int, Wall> cache_;
+};
+
+/// Each point's candidate walls: the occupied cells around the cell it was gathered at, again
+/// when the point has moved more than a cell from it.
+struct Candidates {
+  std::vector<const WallCells::Wall*> walls;
+  std::vector<std::size_t> begin, end;
+  std::vector<int> cx, cy;
+};
+
+/// Gauss-Newton on the points' distances to S's walls (point-to-line ICP; point-to-point where a
+/// cell has no line), each point paired anew each iteration with the nearest wall within
+/// `max_d` of it, residuals weighted by a Cauchy kernel.
+mrpt::poses::CPose2D pointToLine(WallCells& walls, const std::vector<mrpt::math::TPoint2D>& pts,
+                                 const mrpt::poses::CPose2D& start, double max_d, double res,
+                                 int max_iterations, unsigned& iterations) {
+  constexpr double kKernel = 0.03;  // [m] the Cauchy kernel's scale
+  const int reach = static_cast<int>(std::ceil(max_d / res)) + 1;
+  Candidates cand;
+  cand.begin.assign(pts.size(), 0), cand.end.assign(pts.size(), 0);
+  cand.cx.assign(pts.size(), INT_MIN / 2), cand.cy.assign(pts.size(), INT_MIN / 2);
+  mrpt::poses::CPose2D pose = start;
+  for (iterations = 0; iterations < static_cast<unsigned>(max_iterations);) {
+    ++iterations;
+    Eigen::Matrix3d h = Eigen::Matrix3d::Identity() * 1e-6;
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const double rx = c * pts[i].x - s * pts[i].y, ry = s * pts[i].x + c * pts[i].y;
+      const Eigen::Vector2d g(pose.x() + rx, pose.y() + ry);
+      const int px = walls.cellX(g.x()), py = walls.cellY(g.y());
+      if (std::abs(px - cand.cx[i]) > 1 || std::abs(py - cand.cy[i]) > 1) {
+        cand.cx[i] = px, cand.cy[i] = py, cand.begin[i] = cand.walls.size();
+        walls.gather(px, py, reach, cand.walls);
+        cand.end[i] = cand.walls.size();
+      }
+      const WallCells::Wall* best = nullptr;
+      double best_d2 = max_d * max_d;
+      for (std::size_t k = cand.begin[i]; k < cand.end[i]; ++k) {
+        const double d2 = (cand.walls[k]->q - g).squaredNorm();
+        if (d2 <= best_d2) best_d2 = d2, best = cand.walls[k];
+      }
+      if (best == nullptr) continue;
+      auto add = [&](const Eigen::Vector2d& dir) {
+        const double e = dir.dot(g - best->q), w = 1.0 / (1.0 + (e * e) / (kKernel * kKernel));
+        const Eigen::Vector3d j(dir.x(), dir.y(), -dir.x() * ry + dir.y() * rx);
+        h += w * j * j.transpose();
+        b += w * e * j;
+      };
+      if (best->n.squaredNorm() > 0) {
+        add(best->n);
+      } else {
+        add({1, 0}), add({0, 1});
+      }
+    }
+    const Eigen::Vector3d step = h.ldlt().solve(-b);
+    if (!step.allFinite()) break;
+    pose = {pose.x() + step.x(), pose.y() + step.y(), mrpt::math::wrapToPi(pose.phi() + step.z())};
+    if (step.head<2>().norm() < 1e-4 && std::abs(step.z()) < 1e-4) break;
+  }
+  return pose;
+}
+
+/// inlierInformation on S's walls: a point is an inlier when a wall point lies within
+/// inlier_distance_m of it, and that wall's normal says what it pins down.
+Eigen::Matrix3d wallInformation(WallCells& walls, const std::vector<mrpt::math::TPoint2D>& pts,
+                                const mrpt::poses::CPose2D& matched, const ScanMatchOptions& o,
+                                double res, ScanMatchResult& r) {
+  const int reach = static_cast<int>(std::ceil(o.inlier_distance_m / res));
+  Eigen::Matrix3d fisher = Eigen::Matrix3d::Zero();
+  Eigen::Vector2d q, n;
+  r.inliers = 0;
+  for (const auto& p : pts) {
+    const mrpt::math::TPoint2D g = matched + p;
+    if (!walls.nearest(g.x, g.y, reach, o.inlier_distance_m * o.inlier_distance_m, q, n)) continue;
+    ++r.inliers;
+    const double rx = g.x - matched.x(), ry = g.y - matched.y();
+    const Eigen::Vector3d j(n.x(), n.y(), -n.x() * ry + n.y() * rx);
+    fisher += j * j.transpose();
+  }
+  r.inlier_ratio = static_cast<double>(r.inliers) / static_cast<double>(pts.size());
+  return fisher;
+}
+
+/// Steps 2 to 5 of a match with point-to-line ICP on S's cells instead of MRPT's ICP: no
+/// reference point cloud and no KD-tree, each point's wall found in the cells around it.
+void lineMatch(const DynamicGridMap& map, const std::vector<mrpt::math::TPoint2D>& pts,
+               const mrpt::poses::CPose2D& guess, const mrpt::poses::CPose2D& start,
+               const ScanMatchOptions& o, ScanMatchResult& r) {
+  const double res = map.getResolution();
+  WallCells walls(map, o.occupied_threshold);
+  const int reach = static_cast<int>(std::ceil(o.overlap_distance_m / res));
+  std::vector<mrpt::math::TPoint2D> on_s;
+  Eigen::Vector2d q, n;
+  for (const auto& p : pts) {
+    const mrpt::math::TPoint2D g = start + p;
+    if (walls.nearest(g.x, g.y, reach, o.overlap_distance_m * o.overlap_distance_m, q, n))
+      on_s.push_back(p);
+  }
+  r.map_points = walls.cells();
+  if (r.map_points < static_cast<std::size_t>(o.min_map_points)) {
+    r.fallback_reason = "too few map points";
+    return;
+  }
+  r.scan_points = on_s.size();
+  if (r.scan_points < static_cast<std::size_t>(o.min_scan_points)) {
+    r.fallback_reason = "too little overlap";
+    return;
+  }
+  const mrpt::poses::CPose2D matched = pointToLine(walls, on_s, start, o.line_distance_m, res,
+                                                   o.icp_max_iterations, r.icp_iterations);
+  const Eigen::Matrix3d fisher = wallInformation(walls, pts, matched, o, res, r);
+  accept(guess, matched, keepConstrained(start, matched, fisher, r, o), o, r);
+}
+
 }  // namespace
 
 ScanMatchResult ScanMatcher::match(const DynamicGridMap& map, const RangeData& rd,
@@ -493,6 +683,10 @@ ScanMatchResult ScanMatcher::match(const DynamicGridMap& map, const RangeData& r
   // 2. The occupied cells of S around where those points fall, seen from the guess moved to the
   //    best pose of a grid search: drift larger than the overlap gate is caught.
   const mrpt::poses::CPose2D start = correlativeGuess(map, pts, guess, o, occupied_);
+  if (o.point_to_line) {
+    lineMatch(map, pts, guess, start, o, r);
+    return r;
+  }
   mrpt::maps::CSimplePointsMap reference, scan_map;
   std::vector<Eigen::Vector2d> normals;
   mapPoints(map, pts, start, o, reference, normals);

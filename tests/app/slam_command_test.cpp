@@ -77,6 +77,10 @@ class SlamLoop : public ::testing::Test {
     EXPECT_EQ(test::run(kExe + " map --no-baseline --poses odometry --input " + *log_ + " --out " +
                         *dir_ + "/odo"),
               0);
+    std::ofstream(*dir_ + "/line.ini") << "[scan_matching]\npoint_to_line = true\n";
+    EXPECT_EQ(test::run(kExe + " map --no-baseline --poses slam --config " + *dir_ +
+                        "/line.ini --input " + *log_ + " --out " + *dir_ + "/line"),
+              0);
   }
   static std::string *dir_, *log_;
 };
@@ -94,6 +98,17 @@ TEST_F(SlamLoop, LoopClosureRemovesTheOdometryDrift) {
   EXPECT_NE(summary.find("\"converged\": true"), std::string::npos);
   EXPECT_GT(nlohmann::json::parse(summary)["slam"]["loop_closures"]["proposed"].get<int>(), 0);
   EXPECT_NE(test::readFile(*dir_ + "/a/config.ini").find("[slam]"), std::string::npos);
+}
+
+// The front end with point-to-line ICP on the submap's cells instead of MRPT's ICP.
+TEST_F(SlamLoop, APointToLineFrontEndRemovesTheDriftToo) {
+  const double odo = alignedError(*dir_ + "/odo/poses.txt", *dir_ + "/gt.txt");
+  const double line = alignedError(*dir_ + "/line/poses.txt", *dir_ + "/gt.txt");
+  EXPECT_LT(line, 0.05);
+  EXPECT_LT(line, odo / 3);
+  EXPECT_NE(test::readFile(*dir_ + "/line/poses.txt"), test::readFile(*dir_ + "/a/poses.txt"));
+  EXPECT_NE(test::readFile(*dir_ + "/line/config.ini").find("point_to_line = true"),
+            std::string::npos);
 }
 
 TEST_F(SlamLoop, SameInputGivesTheSamePosesAndGraphByteForByte) {

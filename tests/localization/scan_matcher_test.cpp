@@ -74,12 +74,19 @@ double headingError(const CPose2D& a, const CPose2D& b) {
   return std::abs(mrpt::math::wrapToPi(a.phi() - b.phi()));
 }
 
+/// The options with point-to-line ICP on S's cells instead of MRPT's point-to-point ICP.
+ScanMatchOptions pointToLine() {
+  ScanMatchOptions o;
+  o.point_to_line = true;
+  return o;
+}
+
 // S knows a wall only to the cell it falls in: the match is as exact as S's cells, about a
 // third of a cell here. With 2 cm cells that is within 1 cm; with the default 5 cm, 2.5 cm.
-void expectRecovered(double resolution, double tolerance_m) {
+void expectRecovered(double resolution, double tolerance_m, const ScanMatchOptions& options) {
   const auto world = room();
   const DynamicGridMap map = mappedRoom(world, resolution);
-  const ScanMatcher matcher({});
+  const ScanMatcher matcher(options);
   const CPose2D truth(0.3, -0.2, 0.15);
   const auto scan = scanFrom(world, truth);
   // Offsets up to overlap_distance_m (0.1 m) from every wall; turns up to 3 degrees.
@@ -97,11 +104,59 @@ void expectRecovered(double resolution, double tolerance_m) {
 }
 
 TEST(ScanMatcher, RecoversAKnownOffsetWithinACentimetreAndHalfADegree) {
-  expectRecovered(0.02, 0.01);
+  expectRecovered(0.02, 0.01, {});
+  expectRecovered(0.02, 0.01, pointToLine());
 }
 
 TEST(ScanMatcher, RecoversAKnownOffsetWithinHalfACellAtFiveCentimetres) {
-  expectRecovered(0.05, 0.025);
+  expectRecovered(0.05, 0.025, {});
+  expectRecovered(0.05, 0.025, pointToLine());
+}
+
+// Point-to-line pairs a point with the line through a wall's cells, not with the cell's centre:
+// a wall between two rows of cells is matched to a fraction of a cell, as MRPT's ICP against
+// points laid along the walls is.
+TEST(ScanMatcher, PointToLineIsAsExactAsMrptIcpOnTheSameScans) {
+  const auto world = room();
+  const DynamicGridMap map = mappedRoom(world);
+  const CPose2D truth(-0.4, 0.6, -0.35);
+  const CPose2D guess = truth + CPose2D(0.05, 0.06, -1.5 * kDeg);
+  const auto rd = rangeOf(*scanFrom(world, truth));
+  const ScanMatchResult line = ScanMatcher(pointToLine()).match(map, rd, guess);
+  const ScanMatchResult icp = ScanMatcher({}).match(map, rd, guess);
+  ASSERT_TRUE(line.matched) << line.fallback_reason;
+  ASSERT_TRUE(icp.matched) << icp.fallback_reason;
+  const double line_error = std::hypot(line.pose.x() - truth.x(), line.pose.y() - truth.y());
+  const double icp_error = std::hypot(icp.pose.x() - truth.x(), icp.pose.y() - truth.y());
+  EXPECT_LT(line_error, 0.015);
+  EXPECT_LT(line_error, icp_error + 0.005);
+  EXPECT_LT(headingError(line.pose, truth), 0.3 * kDeg);
+  EXPECT_GT(line.icp_iterations, 0u);
+}
+
+// In a straight corridor nothing pins the position along it down: point-to-line keeps the
+// guess's value along the corridor and corrects across it and in heading.
+TEST(ScanMatcher, AlongAStraightCorridorTheGuessIsKept) {
+  sim::StaticWorld corridor;
+  corridor.segments.push_back({{-20, -1.013}, {20, -1.013}});
+  corridor.segments.push_back({{-20, 0.987}, {20, 0.987}});
+  DynamicGridMap map{DynamicMapOptions{}};
+  for (const double x : {-0.5, 0.0, 0.5}) {
+    for (int k = 0; k < 3; ++k) {
+      map.insertObservation(*scanFrom(corridor, {x, 0, 0}), mrpt::poses::CPose3D(x, 0, 0, 0, 0, 0));
+    }
+  }
+  const CPose2D truth(0.1, -0.05, 0.0);
+  const CPose2D guess = truth + CPose2D(0.07, 0.06, 1.0 * kDeg);
+  const ScanMatchResult r =
+      ScanMatcher(pointToLine()).match(map, rangeOf(*scanFrom(corridor, truth)), guess);
+  ASSERT_TRUE(r.matched) << r.fallback_reason;
+  EXPECT_EQ(r.degenerate_directions, 1);
+  EXPECT_NEAR(r.pose.y(), truth.y(), 0.02);            // across: the walls
+  EXPECT_LT(headingError(r.pose, truth), 0.3 * kDeg);  // the walls' direction
+  // Along: the guess's (the search's cell steps move it at most by the grid's search, which a
+  // flat direction does not pay for).
+  EXPECT_NEAR(r.pose.x(), guess.x(), 1e-9);
 }
 
 // Drift beyond the overlap gate (0.1 m), turned too: the grid search before ICP starts it from
@@ -118,10 +173,10 @@ TEST(ScanMatcher, DriftBeyondTheOverlapGateIsRecovered) {
   EXPECT_LT(headingError(r.pose, truth), 0.5 * kDeg);
 }
 
-TEST(ScanMatcher, AMovedObjectInViewDoesNotPullThePose) {
+void expectNotPulledByAMovedObject(const ScanMatchOptions& options) {
   const auto world = room();
   const DynamicGridMap map = mappedRoom(world);  // S knows the middle of the room as free
-  const ScanMatcher matcher({});
+  const ScanMatcher matcher(options);
   const CPose2D truth(0.2, 0.1, -0.1);
   const CPose2D guess = truth + CPose2D(0.06, 0.05, 2 * kDeg);
   // A 0.8 m object now stands 1.5 m in front of the robot, where S holds free space, and near
@@ -136,6 +191,11 @@ TEST(ScanMatcher, AMovedObjectInViewDoesNotPullThePose) {
   EXPECT_LT(std::hypot(with.pose.x() - clean.pose.x(), with.pose.y() - clean.pose.y()), 0.005);
   EXPECT_LT(headingError(with.pose, clean.pose), 0.2 * kDeg);
   EXPECT_LT(std::hypot(with.pose.x() - truth.x(), with.pose.y() - truth.y()), 0.025);
+}
+
+TEST(ScanMatcher, AMovedObjectInViewDoesNotPullThePose) {
+  expectNotPulledByAMovedObject({});
+  expectNotPulledByAMovedObject(pointToLine());
 }
 
 TEST(ScanMatcher, APoorMatchKeepsTheGuessAndSaysWhy) {
@@ -246,7 +306,8 @@ TEST(ScanMatchOptions, BadValuesAreErrorsNamingTheKey) {
   for (const char* bad :
        {"occupied_threshold = 0.5\n", "min_inlier_ratio = 1.5\n", "max_correction_deg = 0\n",
         "icp_max_iterations = 0\n", "icp_smallest_threshold_dist_m = 0.9\n",
-        "min_constraint = -1\n", "overlap_distance_m = 0\n", "min_map_points = x\n"}) {
+        "min_constraint = -1\n", "overlap_distance_m = 0\n", "min_map_points = x\n",
+        "line_distance_m = 0\n", "line_distance_m = 1.5\n", "point_to_line = maybe\n"}) {
     try {
       load(bad);
       ADD_FAILURE() << "accepted " << bad;
