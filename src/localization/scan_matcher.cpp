@@ -290,8 +290,8 @@ mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
       px[i] = map.x2idx(g.x) - f.cx0;
       py[i] = map.y2idx(g.y) - f.cy0;
       idx[i] = px[i] + py[i] * f.w;
-      inside = inside && px[i] >= shift && py[i] >= shift && px[i] + shift < f.w &&
-               py[i] + shift < f.h;
+      inside =
+          inside && px[i] >= shift && py[i] >= shift && px[i] + shift < f.w && py[i] + shift < f.h;
     }
     for (int dy = -shift; dy <= shift; ++dy) {
       for (int dx = -shift; dx <= shift; ++dx) {
@@ -487,8 +487,8 @@ class WallCells {
         raw_(map.getRawMap()),
         sx_(static_cast<int>(map.getSizeX())),
         sy_(static_cast<int>(map.getSizeY())),
-        occupied_below_(mrpt::maps::COccupancyGridMap2D::p2l(
-            static_cast<float>(1.0 - occupied_threshold))) {}
+        occupied_below_(
+            mrpt::maps::COccupancyGridMap2D::p2l(static_cast<float>(1.0 - occupied_threshold))) {}
 
   /// The wall point q and unit normal n (zero where the cells do not line up) of the occupied
   /// cell within `reach` cells of (x, y) whose wall point is nearest to it, no farther than
@@ -538,7 +538,8 @@ class WallCells {
     if (added) {
       const CellWall cw = cellWall(cx, cy, sx_, sy_, [this](int x, int y) { return weight(x, y); });
       const double res = map_.getResolution();
-      it->second.q = {map_.idx2x(cx) + res * cw.wx / cw.w_sum, map_.idx2y(cy) + res * cw.wy / cw.w_sum};
+      it->second.q = {map_.idx2x(cx) + res * cw.wx / cw.w_sum,
+                      map_.idx2y(cy) + res * cw.wy / cw.w_sum};
       it->second.n = cw.normal;
     }
     return it->second;
