@@ -79,6 +79,38 @@ CellWall cellWall(int cx, int cy, int sx, int sy, const Weight& weight) {
   return c;
 }
 
+/// The weight of an S cell (by its raw value): how far below `occupied_threshold`'s log-odds its
+/// own lie, 0 for a cell that is not occupied. getCell() is P(free): occupied above the threshold
+/// <=> the raw cell below that value.
+class OccupancyWeight {
+ public:
+  OccupancyWeight(const DynamicGridMap& map, double occupied_threshold)
+      : raw_(map.getRawMap()),
+        sx_(static_cast<int>(map.getSizeX())),
+        occupied_below_(
+            mrpt::maps::COccupancyGridMap2D::p2l(static_cast<float>(1.0 - occupied_threshold))) {}
+  int operator()(int cx, int cy) const {
+    const int v = raw_[static_cast<std::size_t>(cy) * sx_ + cx];
+    return v < occupied_below_ ? occupied_below_ - v : 0;
+  }
+
+ private:
+  const std::vector<DynamicGridMap::cellType>& raw_;
+  int sx_, occupied_below_;
+};
+
+/// Where the wall through occupied cell (cx, cy) runs: the centroid of `cw`, in metres.
+Eigen::Vector2d wallPoint(const DynamicGridMap& map, int cx, int cy, const CellWall& cw) {
+  const double res = map.getResolution();
+  return {map.idx2x(cx) + res * cw.wx / cw.w_sum, map.idx2y(cy) + res * cw.wy / cw.w_sum};
+}
+
+/// The derivative of a point's distance along the unit direction `n` with respect to the pose
+/// (x, y, heading), for the point at (rx, ry) from the robot, rotated into the map's frame.
+Eigen::Vector3d poseJacobian(const Eigen::Vector2d& n, double rx, double ry) {
+  return {n.x(), n.y(), -n.x() * ry + n.y() * rx};
+}
+
 /// S's occupied cells in the box around the scan's end points seen from `guess`, each as the
 /// centroid of the occupied cells of its 3x3 neighbourhood weighted by their log-odds. A wall
 /// that lies on the border between two rows of cells fills both rows: their centres are half a
@@ -99,15 +131,7 @@ void mapPoints(const DynamicGridMap& map, const std::vector<mrpt::math::TPoint2D
   const int sx = static_cast<int>(map.getSizeX()), sy = static_cast<int>(map.getSizeY());
   const int cx0 = std::max(0, map.x2idx(x0 - m)), cy0 = std::max(0, map.y2idx(y0 - m));
   const int cx1 = std::min(sx - 1, map.x2idx(x1 + m)), cy1 = std::min(sy - 1, map.y2idx(y1 + m));
-  // getCell() is P(free): occupied above the threshold <=> the raw cell below this value.
-  using Grid = mrpt::maps::COccupancyGridMap2D;
-  const int occupied_below = Grid::p2l(static_cast<float>(1.0 - o.occupied_threshold));
-  const auto& raw = map.getRawMap();
-  // Weight of an occupied cell: how far below the threshold its log-odds lie, plus one.
-  auto weight = [&](int cx, int cy) -> int {
-    const int v = raw[static_cast<std::size_t>(cy) * sx + cx];
-    return v < occupied_below ? occupied_below - v : 0;
-  };
+  const OccupancyWeight weight(map, o.occupied_threshold);
   for (int cy = cy0; cy <= cy1; ++cy) {
     for (int cx = cx0; cx <= cx1; ++cx) {
       if (weight(cx, cy) == 0) continue;
@@ -117,8 +141,8 @@ void mapPoints(const DynamicGridMap& map, const std::vector<mrpt::math::TPoint2D
       // On a wall, points every fifth of a cell along it: point-to-point ICP against one point
       // per cell would leave the scan free to slide by up to half a cell along each wall.
       const double res = map.getResolution();
-      const double px = map.idx2x(cx) + res * cw.wx / cw.w_sum;
-      const double py = map.idx2y(cy) + res * cw.wy / cw.w_sum;
+      const Eigen::Vector2d q = wallPoint(map, cx, cy, cw);
+      const double px = q.x(), py = q.y();
       for (int k = wall ? -2 : 0; k <= (wall ? 2 : 0); ++k) {
         const double along = 0.2 * k * res;  // tangent = (-n.y, n.x)
         out.insertPointFast(static_cast<float>(px - along * n.y()),
@@ -454,7 +478,7 @@ Eigen::Matrix3d inlierInformation(const mrpt::maps::CSimplePointsMap& reference,
     ++r.inliers;
     const Eigen::Vector2d& n = normals[k];
     const double rx = g.x - matched.x(), ry = g.y - matched.y();  // the point, rotated
-    const Eigen::Vector3d j(n.x(), n.y(), -n.x() * ry + n.y() * rx);
+    const Eigen::Vector3d j = poseJacobian(n, rx, ry);
     fisher += j * j.transpose();
   }
   r.inlier_ratio = static_cast<double>(r.inliers) / static_cast<double>(pts.size());
@@ -482,71 +506,62 @@ void accept(const mrpt::poses::CPose2D& guess, const mrpt::poses::CPose2D& match
 /// runs and its normal (cellWall), as mapPoints places its reference points.
 class WallCells {
  public:
+  struct Wall {
+    Eigen::Vector2d q, n;
+  };
+
   WallCells(const DynamicGridMap& map, double occupied_threshold)
       : map_(map),
-        raw_(map.getRawMap()),
+        weight_(map, occupied_threshold),
         sx_(static_cast<int>(map.getSizeX())),
-        sy_(static_cast<int>(map.getSizeY())),
-        occupied_below_(
-            mrpt::maps::COccupancyGridMap2D::p2l(static_cast<float>(1.0 - occupied_threshold))) {}
+        sy_(static_cast<int>(map.getSizeY())) {}
 
   /// The wall point q and unit normal n (zero where the cells do not line up) of the occupied
   /// cell within `reach` cells of (x, y) whose wall point is nearest to it, no farther than
   /// sqrt(max_d2); false if there is none.
   bool nearest(double x, double y, int reach, double max_d2, Eigen::Vector2d& q,
                Eigen::Vector2d& n) {
-    const int px = map_.x2idx(x), py = map_.y2idx(y);
     const Wall* best = nullptr;
     double best_d2 = max_d2;
-    for (int cy = std::max(0, py - reach); cy <= std::min(sy_ - 1, py + reach); ++cy) {
-      for (int cx = std::max(0, px - reach); cx <= std::min(sx_ - 1, px + reach); ++cx) {
-        if (weight(cx, cy) == 0) continue;
-        const Wall& w = wall(cx, cy);
-        const double d2 = (w.q - Eigen::Vector2d(x, y)).squaredNorm();
-        if (d2 <= best_d2) best_d2 = d2, best = &w;
-      }
-    }
+    forEachWall(map_.x2idx(x), map_.y2idx(y), reach, [&](const Wall& w) {
+      const double d2 = (w.q - Eigen::Vector2d(x, y)).squaredNorm();
+      if (d2 <= best_d2) best_d2 = d2, best = &w;
+    });
     if (best == nullptr) return false;
     q = best->q, n = best->n;
     return true;
   }
-  /// Occupied cells asked for so far.
-  std::size_t cells() const { return cache_.size(); }
-
-  struct Wall {
-    Eigen::Vector2d q, n;
-  };
   /// Appends the walls of the occupied cells within `reach` cells of cell (px, py) to `out`
   /// (pointers stay valid: the cache never moves an entry).
   void gather(int px, int py, int reach, std::vector<const Wall*>& out) {
-    for (int cy = std::max(0, py - reach); cy <= std::min(sy_ - 1, py + reach); ++cy) {
-      for (int cx = std::max(0, px - reach); cx <= std::min(sx_ - 1, px + reach); ++cx) {
-        if (weight(cx, cy) != 0) out.push_back(&wall(cx, cy));
-      }
-    }
+    forEachWall(px, py, reach, [&](const Wall& w) { out.push_back(&w); });
   }
+  /// Occupied cells asked for so far.
+  std::size_t cells() const { return cache_.size(); }
   int cellX(double x) const { return map_.x2idx(x); }
   int cellY(double y) const { return map_.y2idx(y); }
 
  private:
-  int weight(int cx, int cy) const {
-    const int v = raw_[static_cast<std::size_t>(cy) * sx_ + cx];
-    return v < occupied_below_ ? occupied_below_ - v : 0;
+  /// `f` of the wall of every occupied cell within `reach` cells of cell (px, py), row by row.
+  template <typename F>
+  void forEachWall(int px, int py, int reach, const F& f) {
+    for (int cy = std::max(0, py - reach); cy <= std::min(sy_ - 1, py + reach); ++cy) {
+      for (int cx = std::max(0, px - reach); cx <= std::min(sx_ - 1, px + reach); ++cx) {
+        if (weight_(cx, cy) != 0) f(wall(cx, cy));
+      }
+    }
   }
   const Wall& wall(int cx, int cy) {
     const auto [it, added] = cache_.try_emplace(cx + cy * sx_);
     if (added) {
-      const CellWall cw = cellWall(cx, cy, sx_, sy_, [this](int x, int y) { return weight(x, y); });
-      const double res = map_.getResolution();
-      it->second.q = {map_.idx2x(cx) + res * cw.wx / cw.w_sum,
-                      map_.idx2y(cy) + res * cw.wy / cw.w_sum};
-      it->second.n = cw.normal;
+      const CellWall cw = cellWall(cx, cy, sx_, sy_, weight_);
+      it->second = {wallPoint(map_, cx, cy, cw), cw.normal};
     }
     return it->second;
   }
   const DynamicGridMap& map_;
-  const std::vector<DynamicGridMap::cellType>& raw_;
-  int sx_, sy_, occupied_below_;
+  OccupancyWeight weight_;
+  int sx_, sy_;
   std::unordered_map<int, Wall> cache_;
 };
 
@@ -593,7 +608,7 @@ mrpt::poses::CPose2D pointToLine(WallCells& walls, const std::vector<mrpt::math:
       if (best == nullptr) continue;
       auto add = [&](const Eigen::Vector2d& dir) {
         const double e = dir.dot(g - best->q), w = 1.0 / (1.0 + (e * e) / (kKernel * kKernel));
-        const Eigen::Vector3d j(dir.x(), dir.y(), -dir.x() * ry + dir.y() * rx);
+        const Eigen::Vector3d j = poseJacobian(dir, rx, ry);
         h += w * j * j.transpose();
         b += w * e * j;
       };
@@ -625,7 +640,7 @@ Eigen::Matrix3d wallInformation(WallCells& walls, const std::vector<mrpt::math::
     if (!walls.nearest(g.x, g.y, reach, o.inlier_distance_m * o.inlier_distance_m, q, n)) continue;
     ++r.inliers;
     const double rx = g.x - matched.x(), ry = g.y - matched.y();
-    const Eigen::Vector3d j(n.x(), n.y(), -n.x() * ry + n.y() * rx);
+    const Eigen::Vector3d j = poseJacobian(n, rx, ry);
     fisher += j * j.transpose();
   }
   r.inlier_ratio = static_cast<double>(r.inliers) / static_cast<double>(pts.size());
