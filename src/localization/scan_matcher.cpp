@@ -461,28 +461,43 @@ mrpt::poses::CPose2D icpAlign(const mrpt::maps::CSimplePointsMap& reference,
 
 /// The inliers at the matched pose (every scan point judged, not only those that overlapped S at
 /// the guess) and their point-to-line information: a wall constrains the pose across itself
-/// only, so in a straight corridor nothing fixes the position along it.
-Eigen::Matrix3d inlierInformation(const mrpt::maps::CSimplePointsMap& reference,
-                                  const std::vector<Eigen::Vector2d>& normals,
-                                  const std::vector<mrpt::math::TPoint2D>& pts,
-                                  const mrpt::poses::CPose2D& matched, double inlier_distance,
-                                  ScanMatchResult& r) {
-  const float max_d2 = static_cast<float>(inlier_distance * inlier_distance);
+/// only, so in a straight corridor nothing fixes the position along it. `normal_near(g, n)`
+/// says whether the point g (map frame) is an inlier, and sets n to its wall's unit normal.
+template <typename NormalNear>
+Eigen::Matrix3d inlierInformation(const std::vector<mrpt::math::TPoint2D>& pts,
+                                  const mrpt::poses::CPose2D& matched, ScanMatchResult& r,
+                                  const NormalNear& normal_near) {
   Eigen::Matrix3d fisher = Eigen::Matrix3d::Zero();
+  Eigen::Vector2d n;
+  r.inliers = 0;
   for (const auto& p : pts) {
     const mrpt::math::TPoint2D g = matched + p;
-    float qx, qy, d2;
-    const std::size_t k = reference.kdTreeClosestPoint2D(static_cast<float>(g.x),
-                                                         static_cast<float>(g.y), qx, qy, d2);
-    if (d2 > max_d2) continue;
+    if (!normal_near(g, n)) continue;
     ++r.inliers;
-    const Eigen::Vector2d& n = normals[k];
     const double rx = g.x - matched.x(), ry = g.y - matched.y();  // the point, rotated
     const Eigen::Vector3d j = poseJacobian(n, rx, ry);
     fisher += j * j.transpose();
   }
   r.inlier_ratio = static_cast<double>(r.inliers) / static_cast<double>(pts.size());
   return fisher;
+}
+
+/// ... for MRPT's ICP: an inlier is within inlier_distance of a reference point, whose wall's
+/// normal is `normals`' entry.
+Eigen::Matrix3d inlierInformation(const mrpt::maps::CSimplePointsMap& reference,
+                                  const std::vector<Eigen::Vector2d>& normals,
+                                  const std::vector<mrpt::math::TPoint2D>& pts,
+                                  const mrpt::poses::CPose2D& matched, double inlier_distance,
+                                  ScanMatchResult& r) {
+  const float max_d2 = static_cast<float>(inlier_distance * inlier_distance);
+  return inlierInformation(pts, matched, r, [&](const mrpt::math::TPoint2D& g, Eigen::Vector2d& n) {
+    float qx, qy, d2;
+    const std::size_t k = reference.kdTreeClosestPoint2D(static_cast<float>(g.x),
+                                                         static_cast<float>(g.y), qx, qy, d2);
+    if (d2 > max_d2) return false;
+    n = normals[k];
+    return true;
+  });
 }
 
 /// The last judgement of a match: a correction too large to be drift, or too few inliers, keeps
@@ -632,19 +647,11 @@ Eigen::Matrix3d wallInformation(WallCells& walls, const std::vector<mrpt::math::
                                 const mrpt::poses::CPose2D& matched, const ScanMatchOptions& o,
                                 double res, ScanMatchResult& r) {
   const int reach = static_cast<int>(std::ceil(o.inlier_distance_m / res));
-  Eigen::Matrix3d fisher = Eigen::Matrix3d::Zero();
-  Eigen::Vector2d q, n;
-  r.inliers = 0;
-  for (const auto& p : pts) {
-    const mrpt::math::TPoint2D g = matched + p;
-    if (!walls.nearest(g.x, g.y, reach, o.inlier_distance_m * o.inlier_distance_m, q, n)) continue;
-    ++r.inliers;
-    const double rx = g.x - matched.x(), ry = g.y - matched.y();
-    const Eigen::Vector3d j = poseJacobian(n, rx, ry);
-    fisher += j * j.transpose();
-  }
-  r.inlier_ratio = static_cast<double>(r.inliers) / static_cast<double>(pts.size());
-  return fisher;
+  const double max_d2 = o.inlier_distance_m * o.inlier_distance_m;
+  Eigen::Vector2d q;
+  return inlierInformation(pts, matched, r, [&](const mrpt::math::TPoint2D& g, Eigen::Vector2d& n) {
+    return walls.nearest(g.x, g.y, reach, max_d2, q, n);
+  });
 }
 
 /// Steps 2 to 5 of a match with point-to-line ICP on S's cells instead of MRPT's ICP: no
