@@ -19,10 +19,14 @@
 
 #include "cli.h"
 #include "dynamap/base/ini.h"
+#include "dynamap/base/range_data.h"
+#include "dynamap/evaluation/consistency.h"
 #include "dynamap/evaluation/evaluation.h"
 #include "dynamap/input/line_reader.h"
 #include "dynamap/input/open_source.h"
 #include "dynamap/input/pose_file.h"
+#include "dynamap/localization/likelihood_field.h"
+#include "dynamap/mapping/dynamic_map_options.h"
 #include "dynamap/outputs/map_job.h"
 #include "dynamap/outputs/json.h"
 #include "dynamap/outputs/map_outputs.h"
@@ -37,7 +41,8 @@ namespace fs = std::filesystem;
 const char* const kUsage =
     "usage: dynamap eval --scenario FILE --truth PREFIX --result DIR [--config FILE]\n"
     "       dynamap eval --summary DIR...\n"
-    "       dynamap eval --truth PREFIX --trajectory FILE\n\n"
+    "       dynamap eval --truth PREFIX --trajectory FILE\n"
+    "       dynamap eval --input LOG --trajectory FILE [--truth PREFIX]\n\n"
     "Scores a `dynamap map` result against the simulator's ground truth: per object move\n"
     "(the paper's Table 3: correctly detected, not detected, size estimation errors, static\n"
     "parts detected as objects, latency) and per cell (SA, DA, AA, HA of the static map, and\n"
@@ -49,6 +54,9 @@ const char* const kUsage =
     "The poses the result was mapped at (DIR/poses.txt) and the log's raw odometry are scored\n"
     "against the truth's poses (PREFIX.gt.txt): absolute trajectory error, RMSE of position and\n"
     "heading. --trajectory scores any `timestamp x y phi` file (e.g. another SLAM's) that way.\n"
+    "--input LOG with --trajectory lays the log's scans out at the file's poses and says how\n"
+    "well they lie on each other, no truth needed: the mean distance of their points to those\n"
+    "of scans more than 50 scans away (global) and of the scan before (local).\n"
     "Definitions: docs/evaluation.md.";
 
 // ---- reading the truth and the tracks ------------------------------------------------------
@@ -781,6 +789,58 @@ void scoreTrajectory(const std::string& file, const std::string& given) {
             << num(a.rel_10m_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg\n";
 }
 
+/// The pose of `poses` (sorted by time) within `tolerance` seconds of `t`, nearest first.
+const TimedPose* poseAt(const std::vector<TimedPose>& poses, double t, double tolerance) {
+  const auto it = std::lower_bound(poses.begin(), poses.end(), t,
+                                   [](const TimedPose& p, double v) { return p.t < v; });
+  const TimedPose* best = nullptr;
+  if (it != poses.end() && it->t - t <= tolerance) best = &*it;
+  if (it != poses.begin() && t - std::prev(it)->t <= tolerance &&
+      (best == nullptr || t - std::prev(it)->t < best->t - t)) {
+    best = &*std::prev(it);
+  }
+  return best;
+}
+
+/// --input LOG with --trajectory FILE: the log's scans (the hits the mapper inserts, at the
+/// default insertion range) laid out at the pose of FILE at each scan's timestamp, scored by
+/// mapConsistency (no truth needed). Scans without a pose there are counted, not scored.
+void scoreConsistency(const std::string& log, const std::string& file) {
+  const std::vector<TimedPose> poses = readPoses(file);
+  if (poses.empty()) throw InputError(file + ": no pose (expected 'timestamp x y phi' lines)");
+  auto source = openScanSource(log, PoseSource::Fixed);
+  const InsertionOptions insertion;
+  std::vector<std::vector<MapPoint>> scans;
+  std::size_t without_pose = 0;
+  ScanRecord rec;
+  RangeData rd;
+  while (source->next(rec)) {
+    const TimedPose* p = poseAt(poses, rec.t, 1e-3);
+    if (p == nullptr) {
+      ++without_pose;
+      continue;
+    }
+    makeRangeData(*rec.scan, insertion.max_distance_insertion,
+                  insertion.horizontal_tolerance_deg * M_PI / 180.0, rd);
+    if (!rd.planar) continue;
+    const mrpt::poses::CPose2D pose(p->x, p->y, p->phi);
+    std::vector<MapPoint>& pts = scans.emplace_back();
+    for (const mrpt::math::TPoint2D& h : hitPoints(rd)) {
+      const mrpt::math::TPoint2D g = pose + h;
+      pts.push_back({g.x, g.y});
+    }
+  }
+  if (scans.empty()) throw InputError(file + ": no pose at the time of any scan of " + log);
+  const ConsistencyOptions o;
+  const Consistency c = mapConsistency(scans, o);
+  std::cout << "dynamap eval: " << log << " laid out at " << file << ": " << scans.size()
+            << " scans scored, " << without_pose << " without a pose; consistency: global "
+            << num(c.global_m * 1000, 2, "n/a") << " mm (" << c.global_points
+            << " points, against scans more than " << o.neighbour_scans << " away), local "
+            << num(c.local_m * 1000, 2, "n/a") << " mm (" << c.local_points
+            << " points, against the scan before)\n";
+}
+
 }  // namespace
 
 int runEval(const Args& args) {
@@ -796,7 +856,9 @@ int runEval(const Args& args) {
       "summary", po::value<std::vector<std::string>>()->multitoken(),
       "print one table of these evaluated result directories beside the paper's Table 3")(
       "trajectory", po::value<std::string>(),
-      "only score this `timestamp x y phi` file against the truth's poses (--truth)");
+      "only score this `timestamp x y phi` file against the truth's poses (--truth), and/or\n"
+      "lay out the scans of --input at it (consistency)")(
+      "input,i", po::value<std::string>(), "with --trajectory: the log the poses are of");
   po::positional_options_description positional;
   po::variables_map vm;
   if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
@@ -808,12 +870,15 @@ int runEval(const Args& args) {
     return runSummary(vm["summary"].as<std::vector<std::string>>(), std::cout);
   }
   if (vm.count("trajectory")) {
-    if (!vm.count("truth") || vm.count("scenario") || vm.count("result")) {
-      throw UsageError("--trajectory takes --truth only");
+    if ((!vm.count("truth") && !vm.count("input")) || vm.count("scenario") || vm.count("result")) {
+      throw UsageError("--trajectory takes --truth, --input or both");
     }
-    scoreTrajectory(vm["trajectory"].as<std::string>(), vm["truth"].as<std::string>());
+    const std::string file = vm["trajectory"].as<std::string>();
+    if (vm.count("truth")) scoreTrajectory(file, vm["truth"].as<std::string>());
+    if (vm.count("input")) scoreConsistency(vm["input"].as<std::string>(), file);
     return kExitOk;
   }
+  if (vm.count("input")) throw UsageError("--input goes with --trajectory");
   for (const char* k : {"scenario", "truth", "result"}) {
     if (!vm.count(k)) throw UsageError(std::string("--") + k + " is required");
   }

@@ -1,0 +1,46 @@
+#pragma once
+// How well a trajectory lays a log's own scans onto each other: a score that needs no ground
+// truth, so that the pose sources of an odometry-only log (odometry, scan_matching, slam, another
+// SLAM's poses) can be compared on it, and so that a reference trajectory can be checked too.
+//
+// Two figures, each a mean distance from a scan's hit points (map frame) to the nearest hit
+// point of other scans, every distance capped at cap_m (a point with no partner within cap_m
+// counts cap_m: what one trajectory leaves apart, another may lay together):
+//  - global: the scans taken more than neighbour_scans before or after it (loops, corridors
+//    driven twice): where the map would be doubled, a shape error over many metres shows;
+//  - local: the scan just before it: the jitter from one scan to the next.
+// A trajectory that is right makes both small; laser noise and the beams' spacing set their
+// floor, so the figures compare trajectories of one log, never logs with each other.
+// Cost: each query point reads the points in the 3 x 3 cells of cap_m around it. Deterministic.
+
+#include <cstddef>
+#include <vector>
+
+namespace dynamap {
+
+struct ConsistencyOptions {
+  std::size_t neighbour_scans = 50;  ///< global: scans closer than this in index do not count
+  std::size_t scan_stride = 7;       ///< global: every n-th scan's points are queried
+  std::size_t point_stride = 3;      ///< every n-th hit point of a scan is used at all
+  double cap_m = 0.2;                ///< [m] a distance counts at most this
+};
+
+/// A hit point in the map frame.
+struct MapPoint {
+  double x = 0, y = 0;
+};
+
+struct Consistency {
+  std::size_t scans = 0;          ///< scans given
+  std::size_t global_points = 0;  ///< query points of the global figure
+  double global_m = 0;            ///< [m] mean capped distance to non-neighbour scans; NaN: none
+  std::size_t local_points = 0;   ///< query points of the local figure
+  double local_m = 0;             ///< [m] mean capped distance to the scan before; NaN: none
+};
+
+/// `scans[i]`: the hit points of scan i (in log order) laid out at the trajectory's pose.
+/// Throws std::invalid_argument when an option is zero or cap_m is not positive and finite.
+Consistency mapConsistency(const std::vector<std::vector<MapPoint>>& scans,
+                           const ConsistencyOptions& options = {});
+
+}  // namespace dynamap

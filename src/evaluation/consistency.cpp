@@ -1,0 +1,106 @@
+#include "dynamap/evaluation/consistency.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace dynamap {
+namespace {
+
+struct IndexedPoint {
+  double x, y;
+  std::size_t scan;
+};
+
+/// The used points (every point_stride-th) of every scan, hashed by cells of cap_m: the nearest
+/// point within cap_m of a query lies in the 3 x 3 cells around it.
+class PointHash {
+ public:
+  PointHash(const std::vector<std::vector<MapPoint>>& scans, const ConsistencyOptions& o)
+      : cell_(o.cap_m) {
+    for (std::size_t i = 0; i < scans.size(); ++i) {
+      for (std::size_t k = 0; k < scans[i].size(); k += o.point_stride) {
+        const MapPoint& p = scans[i][k];
+        cells_[key(cellOf(p.x), cellOf(p.y))].push_back({p.x, p.y, i});
+      }
+    }
+  }
+
+  /// The squared distance from (x, y) to the nearest point of a scan farther than `exclude` in
+  /// index from `scan`, at most `cap2`.
+  double nearest2(double x, double y, std::size_t scan, std::size_t exclude, double cap2) const {
+    double best = cap2;
+    const std::int64_t cx = cellOf(x), cy = cellOf(y);
+    for (std::int64_t dy = -1; dy <= 1; ++dy) {
+      for (std::int64_t dx = -1; dx <= 1; ++dx) {
+        const auto it = cells_.find(key(cx + dx, cy + dy));
+        if (it == cells_.end()) continue;
+        for (const IndexedPoint& q : it->second) {
+          const std::size_t gap = q.scan > scan ? q.scan - scan : scan - q.scan;
+          if (gap <= exclude) continue;
+          best = std::min(best, (q.x - x) * (q.x - x) + (q.y - y) * (q.y - y));
+        }
+      }
+    }
+    return best;
+  }
+
+ private:
+  std::int64_t cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
+  static std::uint64_t key(std::int64_t cx, std::int64_t cy) {
+    return (static_cast<std::uint64_t>(cx) << 32) ^ static_cast<std::uint32_t>(cy);
+  }
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<IndexedPoint>> cells_;
+};
+
+/// Mean capped distance from scan i's used points to scan i-1's, over every scan but the first.
+void localFigure(const std::vector<std::vector<MapPoint>>& scans, const ConsistencyOptions& o,
+                 Consistency& c) {
+  const double cap2 = o.cap_m * o.cap_m;
+  double sum = 0;
+  for (std::size_t i = 1; i < scans.size(); ++i) {
+    const auto& before = scans[i - 1];
+    for (std::size_t k = 0; k < scans[i].size(); k += o.point_stride) {
+      const MapPoint& p = scans[i][k];
+      double best = cap2;
+      for (std::size_t m = 0; m < before.size(); m += o.point_stride) {
+        const double dx = before[m].x - p.x, dy = before[m].y - p.y;
+        best = std::min(best, dx * dx + dy * dy);
+      }
+      sum += std::sqrt(best);
+      ++c.local_points;
+    }
+  }
+  c.local_m = c.local_points > 0 ? sum / static_cast<double>(c.local_points)
+                                 : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
+Consistency mapConsistency(const std::vector<std::vector<MapPoint>>& scans,
+                           const ConsistencyOptions& o) {
+  if (o.scan_stride == 0 || o.point_stride == 0 || !(o.cap_m > 0) || !std::isfinite(o.cap_m)) {
+    throw std::invalid_argument("consistency: strides must be positive, cap_m positive and finite");
+  }
+  Consistency c;
+  c.scans = scans.size();
+  const PointHash hash(scans, o);
+  const double cap2 = o.cap_m * o.cap_m;
+  double sum = 0;
+  for (std::size_t i = 0; i < scans.size(); i += o.scan_stride) {
+    for (std::size_t k = 0; k < scans[i].size(); k += o.point_stride) {
+      sum += std::sqrt(hash.nearest2(scans[i][k].x, scans[i][k].y, i, o.neighbour_scans, cap2));
+      ++c.global_points;
+    }
+  }
+  c.global_m = c.global_points > 0 ? sum / static_cast<double>(c.global_points)
+                                   : std::numeric_limits<double>::quiet_NaN();
+  localFigure(scans, o, c);
+  return c;
+}
+
+}  // namespace dynamap
