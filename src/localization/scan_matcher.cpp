@@ -265,21 +265,29 @@ ScoreField scoreField(const DynamicGridMap& map, const std::vector<mrpt::math::T
 }
 
 /// The sum of the field's scores under the sample's cells (px, py) moved by (dx, dy), in the
-/// sample's order; a cell outside the window scores 0. `inside`: every moved cell lies in the
-/// window, and `idx` holds the cells' indices (the same sum, without a check per point).
+/// sample's order; a cell outside the window scores 0.
 double sampleScore(const ScoreField& f, const std::vector<int>& px, const std::vector<int>& py,
-                   const std::vector<int>& idx, int dx, int dy, bool inside) {
+                   int dx, int dy) {
   double sc = 0;
-  if (inside) {
-    const int offset = dx + dy * f.w;
-    for (const int i : idx) sc += f.score[static_cast<std::size_t>(i + offset)];
-    return sc;
-  }
   for (std::size_t i = 0; i < px.size(); ++i) {
     const int x = px[i] + dx, y = py[i] + dy;
     if (x >= 0 && y >= 0 && x < f.w && y < f.h) sc += f.score[x + y * f.w];
   }
   return sc;
+}
+
+/// sampleScore for every dx in [-shift, shift] at once, into row[dx + shift], when every moved
+/// cell lies in the window (`idx`: the cells' indices): no check per point, and each sum adds the
+/// same scores in the same order as sampleScore, so it is the same, while the 2 shift + 1 sums
+/// run side by side over neighbouring cells instead of one after another.
+void sampleRow(const ScoreField& f, const std::vector<int>& idx, int dy, int shift,
+               std::vector<double>& row) {
+  std::fill(row.begin(), row.end(), 0.0);
+  const int n = 2 * shift + 1;
+  for (const int i : idx) {
+    const float* cells = &f.score[static_cast<std::size_t>(i + dy * f.w - shift)];
+    for (int k = 0; k < n; ++k) row[static_cast<std::size_t>(k)] += cells[k];
+  }
 }
 
 /// The pose near `guess` (within search_xy_m in x and y, on the grid's cells, and search_deg in
@@ -306,6 +314,7 @@ mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
   double best = -1e300;
   int best_t = 0, best_x = 0, best_y = 0;
   std::vector<int> px(sample.size()), py(sample.size()), idx(sample.size());
+  std::vector<double> row(static_cast<std::size_t>(2 * shift + 1));
   for (int t = -turns; t <= turns; ++t) {
     const mrpt::poses::CPose2D turned(guess.x(), guess.y(), guess.phi() + t * 0.5 * kDegToRad);
     bool inside = true;
@@ -318,8 +327,10 @@ mrpt::poses::CPose2D correlativeGuess(const DynamicGridMap& map,
           inside && px[i] >= shift && py[i] >= shift && px[i] + shift < f.w && py[i] + shift < f.h;
     }
     for (int dy = -shift; dy <= shift; ++dy) {
+      if (inside) sampleRow(f, idx, dy, shift, row);
       for (int dx = -shift; dx <= shift; ++dx) {
-        double sc = sampleScore(f, px, py, idx, dx, dy, inside);
+        double sc =
+            inside ? row[static_cast<std::size_t>(dx + shift)] : sampleScore(f, px, py, dx, dy);
         sc -= o.search_offset_cost * (dx * dx + dy * dy) +
               (turns ? turn_prior * (t * t) / double(turns * turns) : 0.0);
         if (sc > best) best = sc, best_t = t, best_x = dx, best_y = dy;
