@@ -20,6 +20,7 @@
 #                in a world of four times the area
 #   make compare-icp-slam  odometry-only mapping: dynamap's scan matching against MRPT's icp-slam
 #                and raw odometry on corridors_odom (installs mrpt-apps), and the SENA log maps
+#                with odometry, scan matching and slam, each scored by its consistency
 
 # ROS 1's rosbag and the messages dynamap reads from a bag (a build with -DDYNAMAP_ROSBAG=OFF
 # needs none of them). Debian's rosbag headers include the ROS 2 pluginlib, hence the last five.
@@ -210,16 +211,18 @@ compare-icp-slam: build
 	  rawlogs/$$s/$$s.gt.txt $(COMPARE_OUT)/icp_slam/log_estimated_path.txt \
 	  > $(COMPARE_OUT)/icp_slam/poses.txt; \
 	echo; for r in $$s-scan_matching/poses.txt icp_slam/poses.txt $$s-odometry/poses.txt; do \
-	  $(DYNAMAP) eval --truth rawlogs/$$s --trajectory $(COMPARE_OUT)/$$r || exit 1; \
+	  $(DYNAMAP) eval --truth rawlogs/$$s --input $$log --trajectory $(COMPARE_OUT)/$$r || exit 1; \
 	done; \
 	for p in ground_truth scan_matching; do echo; \
 	  $(DYNAMAP) eval --scenario config/scenarios/$$s.ini --truth rawlogs/$$s \
 	    --result $(COMPARE_OUT)/$$s-$$p | head -8 || exit 1; \
 	done
-	@for p in odometry scan_matching; do \
+	@for p in odometry scan_matching slam; do \
 	  $(DYNAMAP) map --config config/default.ini --poses $$p --input "$(SENA_LOG)" \
 	    --out $(COMPARE_OUT)/sena-$$p || exit 1; \
-	done; echo "dynamap: SENA maps in $(COMPARE_OUT)/sena-odometry/ and sena-scan_matching/"
+	done; echo; for p in odometry scan_matching slam; do \
+	  $(DYNAMAP) eval --input "$(SENA_LOG)" --trajectory $(COMPARE_OUT)/sena-$$p/poses.txt || exit 1; \
+	done; echo "dynamap: SENA maps in $(COMPARE_OUT)/sena-odometry/, sena-scan_matching/ and sena-slam/"
 
 format:
 	clang-format -i $$(git ls-files '*.h' '*.cpp')
