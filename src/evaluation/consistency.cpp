@@ -15,6 +15,31 @@ struct IndexedPoint {
   std::size_t scan;
 };
 
+/// The points of one cell, in scan order: those of every scan, or past kMaxCellPoints those of
+/// every stride-th scan only (the stride doubling each time the cell fills again). A robot
+/// standing still puts every scan's points in the same cells, and a query must not read them
+/// all (a long log would take hours); whole scans are dropped, not single points, so the points
+/// kept still show every place the scans saw in the cell.
+struct Cell {
+  static constexpr std::size_t kMaxCellPoints = 4096;
+  static constexpr std::size_t kMaxStride = std::size_t(1) << 40;
+  std::vector<IndexedPoint> points;
+  std::size_t stride = 1;
+
+  void add(const IndexedPoint& p) {
+    if (p.scan % stride != 0) return;
+    points.push_back(p);
+    // One scan's own points (scan 0's always stay) may fill a cell past the bound: a scan has
+    // no more points than beams, and the stride stops doubling well before it could overflow.
+    while (points.size() > kMaxCellPoints && stride < kMaxStride) {
+      stride *= 2;
+      points.erase(std::remove_if(points.begin(), points.end(),
+                                  [&](const IndexedPoint& q) { return q.scan % stride != 0; }),
+                   points.end());
+    }
+  }
+};
+
 /// The used points (every point_stride-th) of every scan, hashed by cells of cap_m: the nearest
 /// point within cap_m of a query lies in the 3 x 3 cells around it.
 class PointHash {
@@ -24,7 +49,7 @@ class PointHash {
     for (std::size_t i = 0; i < scans.size(); ++i) {
       for (std::size_t k = 0; k < scans[i].size(); k += o.point_stride) {
         const MapPoint& p = scans[i][k];
-        cells_[key(cellOf(p.x), cellOf(p.y))].push_back({p.x, p.y, i});
+        cells_[key(cellOf(p.x), cellOf(p.y))].add({p.x, p.y, i});
       }
     }
   }
@@ -38,7 +63,7 @@ class PointHash {
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         const auto it = cells_.find(key(cx + dx, cy + dy));
         if (it == cells_.end()) continue;
-        for (const IndexedPoint& q : it->second) {
+        for (const IndexedPoint& q : it->second.points) {
           const std::size_t gap = q.scan > scan ? q.scan - scan : scan - q.scan;
           if (gap <= exclude) continue;
           best = std::min(best, (q.x - x) * (q.x - x) + (q.y - y) * (q.y - y));
@@ -54,7 +79,7 @@ class PointHash {
     return (static_cast<std::uint64_t>(cx) << 32) ^ static_cast<std::uint32_t>(cy);
   }
   double cell_;
-  std::unordered_map<std::uint64_t, std::vector<IndexedPoint>> cells_;
+  std::unordered_map<std::uint64_t, Cell> cells_;
 };
 
 /// Mean capped distance from scan i's used points to scan i-1's, over every scan but the first.

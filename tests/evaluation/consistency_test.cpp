@@ -77,6 +77,16 @@ TEST(Consistency, NothingToScoreIsNaN) {
   EXPECT_TRUE(std::isnan(mapConsistency({}, every(0)).global_m));
 }
 
+TEST(Consistency, ARobotStandingStillScoresZero) {
+  // Every scan the same: the cells fill past their bound and are thinned, evenly over the scans,
+  // so each query still finds partners more than neighbour_scans away.
+  const std::vector<std::vector<MapPoint>> scans(3000, wall(0));
+  const Consistency c = mapConsistency(scans, ConsistencyOptions{});
+  EXPECT_EQ(c.global_points, 429u * 34u);  // every 7th scan, every 3rd point
+  EXPECT_DOUBLE_EQ(c.global_m, 0.0);
+  EXPECT_DOUBLE_EQ(c.local_m, 0.0);
+}
+
 TEST(Consistency, BadOptionsThrow) {
   ConsistencyOptions o;
   o.point_stride = 0;
