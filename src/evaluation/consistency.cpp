@@ -40,6 +40,14 @@ struct Cell {
   }
 };
 
+/// The stride through a scan of `n` points: point_stride, or more for a scan of more than
+/// kMaxScanPoints used points (a laser of many thousand beams, or a file that says so), so that
+/// no scan costs more than a bounded number of queries and partners.
+constexpr std::size_t kMaxScanPoints = 2000;
+std::size_t strideFor(std::size_t n, const ConsistencyOptions& o) {
+  return std::max(o.point_stride, (n + kMaxScanPoints - 1) / kMaxScanPoints);
+}
+
 /// The used points (every point_stride-th) of every scan, hashed by cells of cap_m: the nearest
 /// point within cap_m of a query lies in the 3 x 3 cells around it.
 class PointHash {
@@ -47,7 +55,8 @@ class PointHash {
   PointHash(const std::vector<std::vector<MapPoint>>& scans, const ConsistencyOptions& o)
       : cell_(o.cap_m) {
     for (std::size_t i = 0; i < scans.size(); ++i) {
-      for (std::size_t k = 0; k < scans[i].size(); k += o.point_stride) {
+      const std::size_t stride = strideFor(scans[i].size(), o);
+      for (std::size_t k = 0; k < scans[i].size(); k += stride) {
         const MapPoint& p = scans[i][k];
         cells_[key(cellOf(p.x), cellOf(p.y))].add({p.x, p.y, i});
       }
@@ -89,10 +98,12 @@ void localFigure(const std::vector<std::vector<MapPoint>>& scans, const Consiste
   double sum = 0;
   for (std::size_t i = 1; i < scans.size(); ++i) {
     const auto& before = scans[i - 1];
-    for (std::size_t k = 0; k < scans[i].size(); k += o.point_stride) {
+    const std::size_t stride = strideFor(scans[i].size(), o);
+    const std::size_t before_stride = strideFor(before.size(), o);
+    for (std::size_t k = 0; k < scans[i].size(); k += stride) {
       const MapPoint& p = scans[i][k];
       double best = cap2;
-      for (std::size_t m = 0; m < before.size(); m += o.point_stride) {
+      for (std::size_t m = 0; m < before.size(); m += before_stride) {
         const double dx = before[m].x - p.x, dy = before[m].y - p.y;
         best = std::min(best, dx * dx + dy * dy);
       }
@@ -117,7 +128,8 @@ Consistency mapConsistency(const std::vector<std::vector<MapPoint>>& scans,
   const double cap2 = o.cap_m * o.cap_m;
   double sum = 0;
   for (std::size_t i = 0; i < scans.size(); i += o.scan_stride) {
-    for (std::size_t k = 0; k < scans[i].size(); k += o.point_stride) {
+    const std::size_t stride = strideFor(scans[i].size(), o);
+    for (std::size_t k = 0; k < scans[i].size(); k += stride) {
       sum += std::sqrt(hash.nearest2(scans[i][k].x, scans[i][k].y, i, o.neighbour_scans, cap2));
       ++c.global_points;
     }

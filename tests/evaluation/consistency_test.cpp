@@ -87,6 +87,16 @@ TEST(Consistency, ARobotStandingStillScoresZero) {
   EXPECT_DOUBLE_EQ(c.local_m, 0.0);
 }
 
+TEST(Consistency, AScanOfManyPointsIsThinnedToABoundedNumber) {
+  std::vector<MapPoint> dense;  // 100,001 points over 1 m: every 51st used, 1,961
+  for (int i = 0; i <= 100000; ++i) dense.push_back({1e-5 * i, 0});
+  const Consistency c = mapConsistency({dense, dense}, every(0));
+  EXPECT_EQ(c.global_points, 2u * 1961u);
+  EXPECT_EQ(c.local_points, 1961u);
+  EXPECT_DOUBLE_EQ(c.global_m, 0.0);
+  EXPECT_DOUBLE_EQ(c.local_m, 0.0);
+}
+
 TEST(Consistency, BadOptionsThrow) {
   ConsistencyOptions o;
   o.point_stride = 0;
