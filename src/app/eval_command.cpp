@@ -804,7 +804,7 @@ const TimedPose* poseAt(const std::vector<TimedPose>& poses, double t, double to
 
 /// --input LOG with --trajectory FILE: the log's scans (the hits the mapper inserts, at the
 /// default insertion range) laid out at the pose of FILE at each scan's timestamp, scored by
-/// mapConsistency (no truth needed). Scans without a pose there are counted, not scored.
+/// mapConsistency (no truth needed). Scans without a (finite) pose there are counted, not scored.
 void scoreConsistency(const std::string& log, const std::string& file) {
   const std::vector<TimedPose> poses = readPoses(file);
   if (poses.empty()) throw InputError(file + ": no pose (expected 'timestamp x y phi' lines)");
@@ -816,7 +816,7 @@ void scoreConsistency(const std::string& log, const std::string& file) {
   RangeData rd;
   while (source->next(rec)) {
     const TimedPose* p = poseAt(poses, rec.t, 1e-3);
-    if (p == nullptr) {
+    if (p == nullptr || !std::isfinite(p->x) || !std::isfinite(p->y) || !std::isfinite(p->phi)) {
       ++without_pose;
       continue;
     }

@@ -83,7 +83,14 @@ class PointHash {
   }
 
  private:
-  std::int64_t cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
+  /// The cell of coordinate v; a coordinate too large for a cell index (or NaN) is put in the
+  /// last cell (or cell 0) instead of overflowing the conversion.
+  std::int64_t cellOf(double v) const {
+    const double c = std::floor(v / cell_);
+    if (!(c == c)) return 0;
+    return static_cast<std::int64_t>(std::clamp(c, -kMaxCell, kMaxCell));
+  }
+  static constexpr double kMaxCell = 1e12;
   static std::uint64_t key(std::int64_t cx, std::int64_t cy) {
     return (static_cast<std::uint64_t>(cx) << 32) ^ static_cast<std::uint32_t>(cy);
   }

@@ -97,6 +97,18 @@ TEST(Consistency, AScanOfManyPointsIsThinnedToABoundedNumber) {
   EXPECT_DOUBLE_EQ(c.local_m, 0.0);
 }
 
+TEST(Consistency, PointsOffEveryCellScoreTheCap) {
+  // A NaN or astronomically far point (a corrupt pose) gets a cell, partners nothing and is
+  // partnered by nothing: every distance is the cap.
+  const double far = 1e300;
+  const std::vector<MapPoint> odd = {{std::nan(""), 0}, {far, far}, {-far, 5}};
+  const Consistency c = mapConsistency({wall(0), odd}, every(0));
+  EXPECT_EQ(c.global_points, 104u);
+  EXPECT_NEAR(c.global_m, 0.2, 1e-12);
+  EXPECT_EQ(c.local_points, 3u);
+  EXPECT_NEAR(c.local_m, 0.2, 1e-12);
+}
+
 TEST(Consistency, BadOptionsThrow) {
   ConsistencyOptions o;
   o.point_stride = 0;
