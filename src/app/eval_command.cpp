@@ -789,19 +789,6 @@ void scoreTrajectory(const std::string& file, const std::string& given) {
             << num(a.rel_10m_phi_rad * 180.0 / M_PI, 3, "n/a") << " deg\n";
 }
 
-/// The pose of `poses` (sorted by time) within `tolerance` seconds of `t`, nearest first.
-const TimedPose* poseAt(const std::vector<TimedPose>& poses, double t, double tolerance) {
-  const auto it = std::lower_bound(poses.begin(), poses.end(), t,
-                                   [](const TimedPose& p, double v) { return p.t < v; });
-  const TimedPose* best = nullptr;
-  if (it != poses.end() && it->t - t <= tolerance) best = &*it;
-  if (it != poses.begin() && t - std::prev(it)->t <= tolerance &&
-      (best == nullptr || t - std::prev(it)->t < best->t - t)) {
-    best = &*std::prev(it);
-  }
-  return best;
-}
-
 /// --input LOG with --trajectory FILE: the log's scans (the hits the mapper inserts, at the
 /// default insertion range) laid out at the pose of FILE at each scan's timestamp, scored by
 /// mapConsistency (no truth needed). Scans without a (finite) pose there are counted, not scored.
@@ -815,7 +802,7 @@ void scoreConsistency(const std::string& log, const std::string& file) {
   ScanRecord rec;
   RangeData rd;
   while (source->next(rec)) {
-    const TimedPose* p = poseAt(poses, rec.t, 1e-3);
+    const TimedPose* p = poseAtTime(poses, rec.t, 1e-3);
     if (p == nullptr || !std::isfinite(p->x) || !std::isfinite(p->y) || !std::isfinite(p->phi)) {
       ++without_pose;
       continue;

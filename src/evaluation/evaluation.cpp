@@ -426,18 +426,17 @@ double wrapAngle(double a) {
   return std::remainder(a, 2.0 * M_PI);
 }
 
-/// The truth pose whose timestamp is within `tol` of t, or nullptr.
-const TimedPose* truthAt(const std::vector<TimedPose>& truth, double t, double tol) {
-  auto it = std::lower_bound(truth.begin(), truth.end(), t - tol,
+}  // namespace
+
+const TimedPose* poseAtTime(const std::vector<TimedPose>& poses, double t, double tolerance) {
+  auto it = std::lower_bound(poses.begin(), poses.end(), t - tolerance,
                              [](const TimedPose& p, double v) { return p.t < v; });
   const TimedPose* best = nullptr;
-  for (; it != truth.end() && it->t <= t + tol; ++it) {
+  for (; it != poses.end() && it->t <= t + tolerance; ++it) {
     if (!best || std::abs(it->t - t) < std::abs(best->t - t)) best = &*it;
   }
   return best;
 }
-
-}  // namespace
 
 TrajectoryError trajectoryError(const std::vector<TimedPose>& estimate,
                                 const std::vector<TimedPose>& truth, double time_tolerance_s) {
@@ -446,7 +445,7 @@ TrajectoryError trajectoryError(const std::vector<TimedPose>& estimate,
   double c = 1, s = 0, tx = 0, ty = 0, dphi = 0;  // estimate frame -> truth frame
   double sum_xy = 0, sum_phi = 0;
   for (const TimedPose& p : estimate) {
-    const TimedPose* g = truthAt(truth, p.t, time_tolerance_s);
+    const TimedPose* g = poseAtTime(truth, p.t, time_tolerance_s);
     if (!g) {
       ++e.unmatched;
       continue;
@@ -666,7 +665,7 @@ AlignedTrajectoryError alignedTrajectoryError(const std::vector<TimedPose>& esti
                                               double time_tolerance_s) {
   std::vector<TimedPose> est, gt;
   for (const TimedPose& p : estimate) {
-    const TimedPose* g = truthAt(truth, p.t, time_tolerance_s);
+    const TimedPose* g = poseAtTime(truth, p.t, time_tolerance_s);
     if (!g) continue;
     est.push_back(p);
     gt.push_back(*g);

@@ -190,6 +190,10 @@ CellMask observedCells(const std::vector<const std::vector<float>*>& layers);
 
 // --- trajectory level ------------------------------------------------------------------------
 
+/// The pose of `poses` (sorted by time) whose timestamp is nearest `t`, within `tolerance`
+/// seconds (the earlier of two as near); nullptr when none is.
+const TimedPose* poseAtTime(const std::vector<TimedPose>& poses, double t, double tolerance);
+
 /// Absolute trajectory error of an estimate against the truth.
 struct TrajectoryError {
   std::size_t matched = 0;    ///< estimated poses with a truth pose at their timestamp
