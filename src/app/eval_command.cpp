@@ -20,7 +20,7 @@
 #include "cli.h"
 #include "dynamap/base/ini.h"
 #include "dynamap/base/range_data.h"
-#include "dynamap/evaluation/consistency.h"
+#include "dynamap/localization/consistency.h"
 #include "dynamap/evaluation/evaluation.h"
 #include "dynamap/input/line_reader.h"
 #include "dynamap/input/open_source.h"
@@ -797,11 +797,13 @@ void scoreConsistency(const std::string& log, const std::string& file) {
   if (poses.empty()) throw InputError(file + ": no pose (expected 'timestamp x y phi' lines)");
   auto source = openScanSource(log, PoseSource::Fixed);
   const InsertionOptions insertion;
-  std::vector<std::vector<MapPoint>> scans;
+  const ConsistencyOptions o;
+  ScanLayout layout(o);
+  std::vector<mrpt::poses::CPose2D> at;
   std::size_t without_pose = 0;
   ScanRecord rec;
   RangeData rd;
-  while (source->next(rec)) {
+  while (!layout.full() && source->next(rec)) {
     const TimedPose* p = poseAtTime(poses, rec.t, 1e-3);
     if (p == nullptr || !std::isfinite(p->x) || !std::isfinite(p->y) || !std::isfinite(p->phi)) {
       ++without_pose;
@@ -809,19 +811,14 @@ void scoreConsistency(const std::string& log, const std::string& file) {
     }
     makeRangeData(*rec.scan, insertion.max_distance_insertion,
                   insertion.horizontal_tolerance_deg * M_PI / 180.0, rd);
-    if (!rd.planar) continue;
-    const mrpt::poses::CPose2D pose(p->x, p->y, p->phi);
-    std::vector<MapPoint>& pts = scans.emplace_back();
-    for (const mrpt::math::TPoint2D& h : hitPoints(rd)) {
-      const mrpt::math::TPoint2D g = pose + h;
-      pts.push_back({g.x, g.y});
-    }
+    if (rd.planar && layout.add(hitPoints(rd))) at.emplace_back(p->x, p->y, p->phi);
   }
-  if (scans.empty()) throw InputError(file + ": no pose at the time of any scan of " + log);
-  const ConsistencyOptions o;
-  const Consistency c = mapConsistency(scans, o);
-  std::cout << "dynamap eval: " << log << " laid out at " << file << ": " << scans.size()
-            << " scans scored, " << without_pose << " without a pose; consistency: global "
+  if (at.empty()) throw InputError(file + ": no pose at the time of any scan of " + log);
+  const Consistency c = layout.score(at);
+  std::cout << "dynamap eval: " << log << " laid out at " << file << ": " << at.size()
+            << " scans scored, " << without_pose << " without a pose"
+            << (layout.full() ? " (the rest not read: the points kept reached their bound)" : "")
+            << "; consistency: global "
             << num(c.global_m * 1000, 2, "n/a") << " mm (" << c.global_points
             << " points, against scans more than " << o.neighbour_scans << " away), local "
             << num(c.local_m * 1000, 2, "n/a") << " mm (" << c.local_points

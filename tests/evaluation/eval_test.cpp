@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 #include "../test_util.h"
@@ -615,6 +616,71 @@ TEST(ClearMot, TrackBeyondTheGateIsAMissAndAFalsePositive) {
   EXPECT_EQ(s.misses, 1u);
   EXPECT_EQ(s.false_positives, 1u);
   EXPECT_DOUBLE_EQ(s.mota, -1.0);
+}
+
+}  // namespace
+}  // namespace dynamap
+
+namespace dynamap {
+namespace {
+
+// ---- dynamap eval --input LOG --trajectory FILE ---------------------------------------------
+
+/// The truth of the bundled tiny log, with every pose from scan `from` on moved by (dx, dy) and
+/// every timestamp by dt, into `path`.
+void writeMovedTruth(const std::string& path, std::size_t from, double dx, double dy,
+                     double dt = 0) {
+  std::ifstream in(std::string(DYNAMAP_SOURCE_DIR) + "/rawlogs/tiny/tiny.gt.txt");
+  std::ofstream out(path);
+  out << std::fixed << std::setprecision(6);
+  double t, x, y, phi;
+  for (std::size_t i = 0; in >> t >> x >> y >> phi; ++i) {
+    const bool moved = i >= from;
+    out << t + dt << ' ' << x + (moved ? dx : 0) << ' ' << y + (moved ? dy : 0) << ' ' << phi
+        << '\n';
+  }
+}
+
+/// The figure after `what` ("global ", "local ") in eval's consistency line, in mm.
+double figure(const std::string& out, const std::string& what) {
+  const auto at = out.find(what);
+  EXPECT_NE(at, std::string::npos) << out;
+  return at == std::string::npos ? NAN : std::stod(out.substr(at + what.size()));
+}
+
+TEST(EvalConsistency, AMapDoubledByAJumpScoresWorseGloballyNotLocally) {
+  const std::string dir = test::tempDir("consistency");
+  const std::string log = std::string(DYNAMAP_SOURCE_DIR) + "/rawlogs/tiny/tiny.rawlog";
+  const std::string cmd = std::string(DYNAMAP_EXE) + " eval --input " + log + " --trajectory ";
+  writeMovedTruth(dir + "/truth.txt", 0, 0, 0);
+  writeMovedTruth(dir + "/jump.txt", 150, 0.1, 0.05);  // the second half 11 cm off the first
+  std::string truth, jump;
+  ASSERT_EQ(test::run(cmd + dir + "/truth.txt", &truth), 0) << truth;
+  ASSERT_EQ(test::run(cmd + dir + "/jump.txt", &jump), 0) << jump;
+  EXPECT_NE(truth.find("301 scans scored, 0 without a pose"), std::string::npos) << truth;
+  EXPECT_GT(figure(jump, "global "), figure(truth, "global ") + 10) << truth << jump;
+  // One pair of consecutive scans of 300 straddles the jump.
+  EXPECT_NEAR(figure(jump, "local "), figure(truth, "local "), 1.0) << truth << jump;
+  // The same bytes again.
+  std::string again;
+  ASSERT_EQ(test::run(cmd + dir + "/jump.txt", &again), 0);
+  EXPECT_EQ(again, jump);
+}
+
+TEST(EvalConsistency, PosesAtNoScanTimeAndMisusedFlagsAreErrors) {
+  const std::string dir = test::tempDir("consistency-err");
+  const std::string log = std::string(DYNAMAP_SOURCE_DIR) + "/rawlogs/tiny/tiny.rawlog";
+  const std::string exe = std::string(DYNAMAP_EXE) + " eval";
+  writeMovedTruth(dir + "/late.txt", 0, 0, 0, 1000);  // every pose 1000 s after the log
+  std::string out;
+  EXPECT_EQ(test::run(exe + " --input " + log + " --trajectory " + dir + "/late.txt", &out), 1);
+  EXPECT_NE(out.find(dir + "/late.txt: no pose at the time of any scan of " + log),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(test::run(exe + " --input " + log, &out), 2) << out;  // nothing to lay out
+  std::ofstream(dir + "/empty.txt") << "% no poses\n";
+  EXPECT_EQ(test::run(exe + " --input " + log + " --trajectory " + dir + "/empty.txt", &out), 1);
+  EXPECT_NE(out.find("no pose (expected"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
-// mapConsistency: exact figures on hand-made scans.
+// mapConsistency: exact figures on hand-made scans; ScanLayout: the same figures, bounded.
 
-#include "dynamap/evaluation/consistency.h"
+#include "dynamap/localization/consistency.h"
 
 #include <gtest/gtest.h>
 
@@ -118,63 +118,61 @@ TEST(Consistency, BadOptionsThrow) {
   EXPECT_THROW(mapConsistency({wall(0)}, o), std::invalid_argument);
 }
 
-// ---- dynamap eval --input LOG --trajectory FILE ---------------------------------------------
+// ---- ScanLayout ------------------------------------------------------------------------------
 
-/// The truth of the bundled tiny log, with every pose from scan `from` on moved by (dx, dy) and
-/// every timestamp by dt, into `path`.
-void writeMovedTruth(const std::string& path, std::size_t from, double dx, double dy,
-                     double dt = 0) {
-  std::ifstream in(std::string(DYNAMAP_SOURCE_DIR) + "/rawlogs/tiny/tiny.gt.txt");
-  std::ofstream out(path);
-  out << std::fixed << std::setprecision(6);
-  double t, x, y, phi;
-  for (std::size_t i = 0; in >> t >> x >> y >> phi; ++i) {
-    const bool moved = i >= from;
-    out << t + dt << ' ' << x + (moved ? dx : 0) << ' ' << y + (moved ? dy : 0) << ' ' << phi
-        << '\n';
+/// Scan i of a corridor seen from x = 0.1 i: its two walls, in the robot's frame (every 2 cm).
+std::vector<mrpt::math::TPoint2D> corridorHits(std::size_t i) {
+  std::vector<mrpt::math::TPoint2D> hits;
+  for (int k = -100; k <= 100; ++k) {
+    hits.emplace_back(0.02 * k - 0.1 * double(i), 1.0);
+    hits.emplace_back(0.02 * k - 0.1 * double(i), -1.2);
   }
+  return hits;
 }
 
-/// The figure after `what` ("global ", "local ") in eval's consistency line, in mm.
-double figure(const std::string& out, const std::string& what) {
-  const auto at = out.find(what);
-  EXPECT_NE(at, std::string::npos) << out;
-  return at == std::string::npos ? NAN : std::stod(out.substr(at + what.size()));
+TEST(ScanLayout, ScoresAsMapConsistencyOnTheScansLaidOut) {
+  ConsistencyOptions o;
+  o.neighbour_scans = 2;
+  ScanLayout layout(o);
+  std::vector<mrpt::poses::CPose2D> poses;
+  std::vector<std::vector<MapPoint>> laid;
+  for (std::size_t i = 0; i < 12; ++i) {
+    // Every third scan 2 cm and 0.3 deg off its true pose.
+    const double off = i % 3 == 0 ? 0.02 : 0.0;
+    poses.emplace_back(0.1 * double(i) + off, off, off * 0.26);
+    ASSERT_TRUE(layout.add(corridorHits(i)));
+    std::vector<MapPoint>& pts = laid.emplace_back();
+    for (const auto& h : corridorHits(i)) {
+      const mrpt::math::TPoint2D g = poses.back() + h;
+      pts.push_back({g.x, g.y});
+    }
+  }
+  const Consistency a = layout.score(poses), b = mapConsistency(laid, o);
+  EXPECT_EQ(layout.size(), 12u);
+  EXPECT_FALSE(layout.full());
+  EXPECT_EQ(a.global_points, b.global_points);
+  EXPECT_EQ(a.local_points, b.local_points);
+  EXPECT_EQ(a.global_m, b.global_m);  // the same points, the same sums: equal, not near
+  EXPECT_EQ(a.local_m, b.local_m);
+  EXPECT_GT(a.global_m, 0.0005);  // the scans 2 cm off lie 2 cm from their partners
 }
 
-TEST(EvalConsistency, AMapDoubledByAJumpScoresWorseGloballyNotLocally) {
-  const std::string dir = test::tempDir("consistency");
-  const std::string log = std::string(DYNAMAP_SOURCE_DIR) + "/rawlogs/tiny/tiny.rawlog";
-  const std::string cmd = std::string(DYNAMAP_EXE) + " eval --input " + log + " --trajectory ";
-  writeMovedTruth(dir + "/truth.txt", 0, 0, 0);
-  writeMovedTruth(dir + "/jump.txt", 150, 0.1, 0.05);  // the second half 11 cm off the first
-  std::string truth, jump;
-  ASSERT_EQ(test::run(cmd + dir + "/truth.txt", &truth), 0) << truth;
-  ASSERT_EQ(test::run(cmd + dir + "/jump.txt", &jump), 0) << jump;
-  EXPECT_NE(truth.find("301 scans scored, 0 without a pose"), std::string::npos) << truth;
-  EXPECT_GT(figure(jump, "global "), figure(truth, "global ") + 10) << truth << jump;
-  // One pair of consecutive scans of 300 straddles the jump.
-  EXPECT_NEAR(figure(jump, "local "), figure(truth, "local "), 1.0) << truth << jump;
-  // The same bytes again.
-  std::string again;
-  ASSERT_EQ(test::run(cmd + dir + "/jump.txt", &again), 0);
-  EXPECT_EQ(again, jump);
-}
-
-TEST(EvalConsistency, PosesAtNoScanTimeAndMisusedFlagsAreErrors) {
-  const std::string dir = test::tempDir("consistency-err");
-  const std::string log = std::string(DYNAMAP_SOURCE_DIR) + "/rawlogs/tiny/tiny.rawlog";
-  const std::string exe = std::string(DYNAMAP_EXE) + " eval";
-  writeMovedTruth(dir + "/late.txt", 0, 0, 0, 1000);  // every pose 1000 s after the log
-  std::string out;
-  EXPECT_EQ(test::run(exe + " --input " + log + " --trajectory " + dir + "/late.txt", &out), 1);
-  EXPECT_NE(out.find(dir + "/late.txt: no pose at the time of any scan of " + log),
-            std::string::npos)
-      << out;
-  EXPECT_EQ(test::run(exe + " --input " + log, &out), 2) << out;  // nothing to lay out
-  std::ofstream(dir + "/empty.txt") << "% no poses\n";
-  EXPECT_EQ(test::run(exe + " --input " + log + " --trajectory " + dir + "/empty.txt", &out), 1);
-  EXPECT_NE(out.find("no pose (expected"), std::string::npos) << out;
+TEST(ScanLayout, KeepsNoScanPastItsBoundOfPoints) {
+  // 402 hits a scan, every 3rd kept: 134 points; room for two scans in 300.
+  ScanLayout layout(ConsistencyOptions{}, 300);
+  EXPECT_TRUE(layout.add(corridorHits(0)));
+  EXPECT_TRUE(layout.add(corridorHits(1)));
+  EXPECT_FALSE(layout.add(corridorHits(2)));
+  EXPECT_FALSE(layout.add({}));  // once full, nothing more
+  EXPECT_TRUE(layout.full());
+  EXPECT_EQ(layout.size(), 2u);
+  const Consistency c = layout.score({mrpt::poses::CPose2D(0, 0, 0), mrpt::poses::CPose2D(0.1, 0, 0)});
+  EXPECT_EQ(c.scans, 2u);
+  EXPECT_NEAR(c.local_m, 0.0, 1e-12);  // the two scans, each at its pose, lie on each other
+  EXPECT_THROW(layout.score({mrpt::poses::CPose2D(0, 0, 0)}), std::invalid_argument);
+  ConsistencyOptions bad;
+  bad.cap_m = 0;
+  EXPECT_THROW(ScanLayout{bad}, std::invalid_argument);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "dynamap/evaluation/consistency.h"
+#include "dynamap/localization/consistency.h"
 
 #include <algorithm>
 #include <cmath>
@@ -122,13 +122,17 @@ void localFigure(const std::vector<std::vector<MapPoint>>& scans, const Consiste
                                  : std::numeric_limits<double>::quiet_NaN();
 }
 
+void checkOptions(const ConsistencyOptions& o) {
+  if (o.scan_stride == 0 || o.point_stride == 0 || !(o.cap_m > 0) || !std::isfinite(o.cap_m)) {
+    throw std::invalid_argument("consistency: strides must be positive, cap_m positive and finite");
+  }
+}
+
 }  // namespace
 
 Consistency mapConsistency(const std::vector<std::vector<MapPoint>>& scans,
                            const ConsistencyOptions& o) {
-  if (o.scan_stride == 0 || o.point_stride == 0 || !(o.cap_m > 0) || !std::isfinite(o.cap_m)) {
-    throw std::invalid_argument("consistency: strides must be positive, cap_m positive and finite");
-  }
+  checkOptions(o);
   Consistency c;
   c.scans = scans.size();
   const PointHash hash(scans, o);
@@ -145,6 +149,42 @@ Consistency mapConsistency(const std::vector<std::vector<MapPoint>>& scans,
                                    : std::numeric_limits<double>::quiet_NaN();
   localFigure(scans, o, c);
   return c;
+}
+
+ScanLayout::ScanLayout(const ConsistencyOptions& options, std::size_t max_points)
+    : options_(options), max_points_(max_points) {
+  checkOptions(options_);
+}
+
+bool ScanLayout::add(const std::vector<mrpt::math::TPoint2D>& hits) {
+  const std::size_t stride = strideFor(hits.size(), options_);
+  const std::size_t kept = (hits.size() + stride - 1) / stride;
+  if (full_ || points_ + kept > max_points_) {
+    full_ = true;
+    return false;
+  }
+  std::vector<MapPoint>& pts = scans_.emplace_back();
+  pts.reserve(kept);
+  for (std::size_t k = 0; k < hits.size(); k += stride) pts.push_back({hits[k].x, hits[k].y});
+  points_ += kept;
+  return true;
+}
+
+Consistency ScanLayout::score(const std::vector<mrpt::poses::CPose2D>& poses) const {
+  if (poses.size() != scans_.size()) {
+    throw std::invalid_argument("consistency: one pose per kept scan expected");
+  }
+  std::vector<std::vector<MapPoint>> laid(scans_.size());
+  for (std::size_t i = 0; i < scans_.size(); ++i) {
+    laid[i].reserve(scans_[i].size());
+    for (const MapPoint& p : scans_[i]) {
+      const mrpt::math::TPoint2D g = poses[i] + mrpt::math::TPoint2D(p.x, p.y);
+      laid[i].push_back({g.x, g.y});
+    }
+  }
+  ConsistencyOptions once = options_;  // the points kept are those the stride picks already
+  once.point_stride = 1;
+  return mapConsistency(laid, once);
 }
 
 }  // namespace dynamap

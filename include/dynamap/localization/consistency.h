@@ -15,6 +15,9 @@
 // a cell (a cell that sees more keeps the points of every 2nd, 4th, ... scan only: a robot that
 // stands still fills the same cells scan after scan). Deterministic.
 
+#include <mrpt/math/TPoint2D.h>
+#include <mrpt/poses/CPose2D.h>
+
 #include <cstddef>
 #include <vector>
 
@@ -46,5 +49,30 @@ struct Consistency {
 /// Throws std::invalid_argument when an option is zero or cap_m is not positive and finite.
 Consistency mapConsistency(const std::vector<std::vector<MapPoint>>& scans,
                            const ConsistencyOptions& options = {});
+
+/// A log's scans kept once, in each scan's robot frame, to be laid out at several trajectories
+/// and scored without reading the log again (slam's pass 1 scores the odometry against its own
+/// poses). Only the points mapConsistency would use are kept, so score() gives the figures
+/// mapConsistency gives on the scans' whole hit lists. Bounded: once max_points are kept, no
+/// further scan is (full()), and a score is of the scans kept before.
+class ScanLayout {
+ public:
+  static constexpr std::size_t kMaxPoints = 4'000'000;  // 64 MB
+  /// Throws std::invalid_argument for options mapConsistency refuses.
+  explicit ScanLayout(const ConsistencyOptions& options = {}, std::size_t max_points = kMaxPoints);
+  /// Keeps scan size() (`hits`: its hit points, robot frame, in beam order); false when full.
+  bool add(const std::vector<mrpt::math::TPoint2D>& hits);
+  std::size_t size() const { return scans_.size(); }
+  bool full() const { return full_; }
+  /// The kept scans laid out at poses[0], poses[1], ... (one per kept scan) and scored.
+  /// Throws std::invalid_argument when poses.size() != size().
+  Consistency score(const std::vector<mrpt::poses::CPose2D>& poses) const;
+
+ private:
+  ConsistencyOptions options_;
+  std::size_t max_points_, points_ = 0;
+  bool full_ = false;
+  std::vector<std::vector<MapPoint>> scans_;
+};
 
 }  // namespace dynamap
