@@ -88,6 +88,9 @@ std::vector<Option<O>> loopRows() {
        "chi^2 above which a loop closure is rejected"},
       {"max_rounds", &O::max_rounds, Range::closed(1, 100), "",
        "optimise-and-reject rounds per optimisation"},
+      {"keep_better_odometry", &O::keep_better_odometry, Range{}, "",
+       "pass 2 maps on the odometry instead when it lays the scans onto each other better than "
+       "the optimised poses (global consistency, as dynamap eval --input scores it)"},
   };
 }
 

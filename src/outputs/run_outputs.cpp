@@ -1,5 +1,6 @@
 #include "dynamap/outputs/run_outputs.h"
 
+#include <cmath>
 #include <future>
 #include <iomanip>
 #include <ostream>
@@ -80,6 +81,17 @@ Json scanMatchSummary(const ScanMatchCounts& c) {
       {"max_correction_m", jsonNumber("%.4f", c.max_correction_m)}};
 }
 
+// keep_better_odometry: both trajectories' global consistency, and which one pass 2 used.
+Json odometryCheckSummary(const SlamRun& run) {
+  if (!run.checked) return "not made (keep_better_odometry = false, or no scan to score)";
+  auto mm = [](double m) { return std::isfinite(m) ? jsonNumber("%.2f", m * 1000) : Json(); };
+  return {{"scans_scored", run.slam_consistency.scans},
+          {"all_scans_scored", !run.layout_full},
+          {"odometry_global_mm", mm(run.odometry_consistency.global_m)},
+          {"slam_global_mm", mm(run.slam_consistency.global_m)},
+          {"kept", run.kept_odometry ? "odometry" : "slam"}};
+}
+
 // Pass 1 of pose source slam: what the front end matched, the loop closures, the optimiser.
 Json slamSummary(const SlamRun& run) {
   const SlamStats& s = run.slam->stats();
@@ -98,7 +110,10 @@ Json slamSummary(const SlamRun& run) {
             {"iterations", s.iterations},
             {"final_error", jsonNumber("%.6g", s.final_error)},
             {"converged", s.converged}}},
-          {"poses", s.converged ? "optimised" : "front end (the optimiser did not converge)"}};
+          {"odometry_check", odometryCheckSummary(run)},
+          {"poses", run.kept_odometry ? "odometry (it lays the scans onto each other better)"
+                    : s.converged     ? "optimised"
+                                      : "front end (the optimiser did not converge)"}};
 }
 
 // The only block that differs between identical runs: how long the passes took.

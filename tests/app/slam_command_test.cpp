@@ -98,6 +98,40 @@ TEST_F(SlamLoop, LoopClosureRemovesTheOdometryDrift) {
   EXPECT_NE(summary.find("\"converged\": true"), std::string::npos);
   EXPECT_GT(nlohmann::json::parse(summary)["slam"]["loop_closures"]["proposed"].get<int>(), 0);
   EXPECT_NE(test::readFile(*dir_ + "/a/config.ini").find("[slam]"), std::string::npos);
+  // Drifting odometry lays the scans apart: the optimised poses are kept.
+  const auto check = nlohmann::json::parse(summary)["slam"]["odometry_check"];
+  EXPECT_EQ(check["kept"], "slam") << check;
+  EXPECT_LT(check["slam_global_mm"].get<double>(), check["odometry_global_mm"].get<double>() / 2);
+  EXPECT_EQ(check["scans_scored"], 651);
+}
+
+// The same loop with odometry as good as the truth (a log whose poses were corrected already,
+// given as odometry): slam's poses are no better, and pass 2 maps on the odometry.
+TEST(SlamOdometryCheck, OdometryThatLaysTheScansBetterIsKept) {
+  const std::string dir = test::tempDir("slam-perfect");
+  std::string text = scenario("loop", 6, 4, 4, 2, false, 130);
+  const std::string noisy = "noise_xy_per_m = 0.05\nnoise_yaw_per_rad = 0.05\n";
+  ASSERT_NE(text.find(noisy), std::string::npos);
+  text.replace(text.find(noisy), noisy.size(), "noise_xy_per_m = 0\nnoise_yaw_per_rad = 0\n");
+  const std::string log = simulate(dir, "loop", text);
+  const std::string map = kExe + " map --no-baseline --input " + log;
+  ASSERT_EQ(test::run(map + " --poses slam --out " + dir + "/slam"), 0);
+  ASSERT_EQ(test::run(map + " --poses odometry --out " + dir + "/odo"), 0);
+  std::ofstream(dir + "/off.ini") << "[slam]\nkeep_better_odometry = false\n";
+  ASSERT_EQ(test::run(map + " --poses slam --config " + dir + "/off.ini --out " + dir + "/off"), 0);
+  const std::string odometry = test::readFile(dir + "/odo/poses.txt");
+  EXPECT_EQ(test::readFile(dir + "/slam/poses.txt"), odometry);
+  const auto slam = nlohmann::json::parse(test::readFile(dir + "/slam/summary.json"))["slam"];
+  EXPECT_EQ(slam["odometry_check"]["kept"], "odometry") << slam;
+  EXPECT_LT(slam["odometry_check"]["odometry_global_mm"].get<double>(),
+            slam["odometry_check"]["slam_global_mm"].get<double>());
+  EXPECT_EQ(slam["poses"], "odometry (it lays the scans onto each other better)");
+  // Asked not to, slam keeps its own poses, which differ from the truth a little.
+  EXPECT_NE(test::readFile(dir + "/off/poses.txt"), odometry);
+  const auto off = nlohmann::json::parse(test::readFile(dir + "/off/summary.json"))["slam"];
+  EXPECT_EQ(off["poses"], "optimised");
+  EXPECT_TRUE(off["odometry_check"].is_string()) << off;
+  EXPECT_LT(alignedError(dir + "/off/poses.txt", dir + "/gt.txt"), 0.05);
 }
 
 // The front end with point-to-line ICP on the submap's cells instead of MRPT's ICP.

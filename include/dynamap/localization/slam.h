@@ -76,6 +76,9 @@ struct SlamOptions {
   int max_iterations = 100;         ///< Levenberg-Marquardt iterations per run [1, 10000]
   double loop_gate = 16.0;          ///< chi^2 above which a loop closure is rejected (0, 1e9]
   int max_rounds = 3;               ///< optimise / reject rounds per optimisation [1, 100]
+  /// The odometry, not the optimised poses, when it lays the log's scans onto each other better
+  /// (global consistency, consistency.h): a log whose odometry is already corrected is kept.
+  bool keep_better_odometry = true;
 
   /// Every key of [slam]: name, member, range, unit, meaning.
   static const OptionTable<SlamOptions>& table();

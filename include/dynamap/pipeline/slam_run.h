@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dynamap/input/scan_source.h"
+#include "dynamap/localization/consistency.h"
 #include "dynamap/localization/slam.h"
 #include "dynamap/pipeline/mapper.h"
 
@@ -20,6 +21,12 @@ struct SlamRun {
   std::vector<mrpt::poses::CPose2D> poses;  ///< one per scan the source returned, in order
   InputOutcome outcome;                     ///< a fault ends pass 1 (and pass 2) at that scan
   double wall_s = 0;                        ///< time of pass 1
+  /// keep_better_odometry: the scans laid out at the odometry and at slam's poses, scored
+  /// (`checked`); `poses` are the odometry when its global figure is the smaller.
+  bool checked = false;
+  Consistency odometry_consistency, slam_consistency;
+  bool kept_odometry = false;
+  bool layout_full = false;  ///< a log too long for the check: its first scans were scored
 };
 
 /// True when a run asked for `requested` maps with slam on `source` (opened with it): asked
@@ -28,7 +35,9 @@ bool usesSlam(PoseSource requested, const ScanSource& source);
 
 /// Pass 1: every scan of `source` (opened with odometry poses) through Slam, then the last
 /// optimisation, with `config`'s [slam], [scan_matching] (the front end), [dynamic_map] and
-/// [insertion] (the submaps). `on_scan(done)` is called after each scan (progress).
+/// [insertion] (the submaps); then, with keep_better_odometry, the odometry instead of slam's
+/// poses when it lays the scans (as the mapper inserts them) onto each other better.
+/// `on_scan(done)` is called after each scan (progress).
 SlamRun estimateTrajectory(ScanSource& source, const MapConfig& config,
                            const std::function<void(std::size_t)>& on_scan = {});
 
