@@ -83,10 +83,10 @@ Json scanMatchSummary(const ScanMatchCounts& c) {
 
 // keep_better_odometry: both trajectories' global consistency, and which one pass 2 used.
 Json odometryCheckSummary(const SlamRun& run) {
+  if (run.layout_full) return "not made: the log has more points to score than the check keeps";
   if (!run.checked) return "not made (keep_better_odometry = false, or no scan to score)";
   auto mm = [](double m) { return std::isfinite(m) ? jsonNumber("%.2f", m * 1000) : Json(); };
   return {{"scans_scored", run.slam_consistency.scans},
-          {"all_scans_scored", !run.layout_full},
           {"odometry_global_mm", mm(run.odometry_consistency.global_m)},
           {"slam_global_mm", mm(run.slam_consistency.global_m)},
           {"kept", run.kept_odometry ? "odometry" : "slam"}};

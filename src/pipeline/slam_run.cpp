@@ -32,15 +32,17 @@ struct OdometryCheck {
   }
 
   /// Scores both trajectories on the scans kept; the odometry replaces run.poses if better.
+  /// Not when the layout filled up: odometry that is good at first may drift later, so the
+  /// first scans alone cannot tell.
   void decide(SlamRun& run) const {
-    if (kept.empty() || odometry.size() != run.poses.size()) return;
+    run.layout_full = layout.full();
+    if (kept.empty() || layout.full() || odometry.size() != run.poses.size()) return;
     std::vector<mrpt::poses::CPose2D> at_odometry, at_slam;
     for (std::size_t i : kept) {
       at_odometry.push_back(odometry[i]);
       at_slam.push_back(run.poses[i]);
     }
     run.checked = true;
-    run.layout_full = layout.full();
     run.odometry_consistency = layout.score(at_odometry);
     run.slam_consistency = layout.score(at_slam);
     // NaN (too few scans for the global figure) compares false: slam's poses stay.

@@ -57,7 +57,7 @@ Consistency mapConsistency(const std::vector<std::vector<MapPoint>>& scans,
 /// further scan is (full()), and a score is of the scans kept before.
 class ScanLayout {
  public:
-  static constexpr std::size_t kMaxPoints = 4'000'000;  // 64 MB
+  static constexpr std::size_t kMaxPoints = 2'000'000;  // 32 MB
   /// Throws std::invalid_argument for options mapConsistency refuses.
   explicit ScanLayout(const ConsistencyOptions& options = {}, std::size_t max_points = kMaxPoints);
   /// Keeps scan size() (`hits`: its hit points, robot frame, in beam order); false when full.

@@ -26,7 +26,7 @@ struct SlamRun {
   bool checked = false;
   Consistency odometry_consistency, slam_consistency;
   bool kept_odometry = false;
-  bool layout_full = false;  ///< a log too long for the check: its first scans were scored
+  bool layout_full = false;  ///< a log too long for the check (ScanLayout::kMaxPoints): not made
 };
 
 /// True when a run asked for `requested` maps with slam on `source` (opened with it): asked
