@@ -13,47 +13,34 @@ bool usesSlam(PoseSource requested, const ScanSource& source) {
          (requested == PoseSource::Auto && source.poseSource() == PoseSource::Odometry);
 }
 
-namespace {
+OdometryCheck::OdometryCheck(std::size_t max_points) : layout_(ConsistencyOptions{}, max_points) {}
 
-/// The scans as pass 1 reads them, kept for keep_better_odometry: their hits (as the mapper
-/// inserts them) in a ScanLayout, the odometry of every scan, and which scans the layout holds.
-struct OdometryCheck {
-  ScanLayout layout;
-  std::vector<mrpt::poses::CPose2D> odometry;  // every scan's
-  std::vector<std::size_t> kept;               // the scans in the layout
-  RangeData rd;
+void OdometryCheck::add(const ScanRecord& rec, const InsertionOptions& insertion) {
+  odometry_.push_back(rec.pose);
+  if (layout_.full()) return;
+  makeRangeData(*rec.scan, insertion.max_distance_insertion,
+                insertion.horizontal_tolerance_deg * M_PI / 180.0, rd_);
+  if (rd_.planar && layout_.add(hitPoints(rd_))) kept_.push_back(odometry_.size() - 1);
+}
 
-  void add(const ScanRecord& rec, const InsertionOptions& insertion) {
-    odometry.push_back(rec.pose);
-    if (layout.full()) return;
-    makeRangeData(*rec.scan, insertion.max_distance_insertion,
-                  insertion.horizontal_tolerance_deg * M_PI / 180.0, rd);
-    if (rd.planar && layout.add(hitPoints(rd))) kept.push_back(odometry.size() - 1);
+void OdometryCheck::decide(SlamRun& run) const {
+  run.layout_full = layout_.full();
+  if (kept_.empty() || layout_.full() || odometry_.size() != run.poses.size()) return;
+  std::vector<mrpt::poses::CPose2D> at_odometry, at_slam;
+  for (std::size_t i : kept_) {
+    at_odometry.push_back(odometry_[i]);
+    at_slam.push_back(run.poses[i]);
   }
-
-  /// Scores both trajectories on the scans kept; the odometry replaces run.poses if better.
-  /// Not when the layout filled up: odometry that is good at first may drift later, so the
-  /// first scans alone cannot tell.
-  void decide(SlamRun& run) const {
-    run.layout_full = layout.full();
-    if (kept.empty() || layout.full() || odometry.size() != run.poses.size()) return;
-    std::vector<mrpt::poses::CPose2D> at_odometry, at_slam;
-    for (std::size_t i : kept) {
-      at_odometry.push_back(odometry[i]);
-      at_slam.push_back(run.poses[i]);
-    }
-    run.checked = true;
-    run.odometry_consistency = layout.score(at_odometry);
-    run.slam_consistency = layout.score(at_slam);
-    // NaN (too few scans for the global figure) compares false: slam's poses stay.
-    if (run.odometry_consistency.global_m < run.slam_consistency.global_m) {
-      run.poses = odometry;
-      run.kept_odometry = true;
-    }
+  run.checked = true;
+  run.odometry_consistency = layout_.score(at_odometry);
+  run.slam_consistency = layout_.score(at_slam);
+  // A tie (a log too short for any scan to have partners: both figures the cap) or NaN
+  // compares false: slam's poses stay.
+  if (run.odometry_consistency.global_m < run.slam_consistency.global_m) {
+    run.poses = odometry_;
+    run.kept_odometry = true;
   }
-};
-
-}  // namespace
+}
 
 SlamRun estimateTrajectory(ScanSource& source, const MapConfig& config,
                            const std::function<void(std::size_t)>& on_scan) {

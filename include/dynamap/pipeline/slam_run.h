@@ -29,6 +29,25 @@ struct SlamRun {
   bool layout_full = false;  ///< a log too long for the check (ScanLayout::kMaxPoints): not made
 };
 
+/// keep_better_odometry: the scans as pass 1 reads them (their hits, as the mapper inserts
+/// them, in a ScanLayout of at most `max_points`), the odometry of every scan; then decide()
+/// scores the scans at the odometry and at run.poses and puts the odometry in run.poses when
+/// its global figure is the smaller. No check (run.checked false) when nothing was kept, when
+/// run.poses are not one per scan added, or when the layout filled up: odometry that is good
+/// at first may drift later, and the first scans alone cannot tell (run.layout_full).
+class OdometryCheck {
+ public:
+  explicit OdometryCheck(std::size_t max_points = ScanLayout::kMaxPoints);
+  void add(const ScanRecord& rec, const InsertionOptions& insertion);
+  void decide(SlamRun& run) const;
+
+ private:
+  ScanLayout layout_;
+  std::vector<mrpt::poses::CPose2D> odometry_;  // every scan's
+  std::vector<std::size_t> kept_;               // the scans in the layout
+  RangeData rd_;
+};
+
 /// True when a run asked for `requested` maps with slam on `source` (opened with it): asked
 /// for, or auto on a log whose best poses are its odometry.
 bool usesSlam(PoseSource requested, const ScanSource& source);
