@@ -19,13 +19,11 @@
 
 #include "cli.h"
 #include "dynamap/base/ini.h"
-#include "dynamap/base/range_data.h"
 #include "dynamap/localization/consistency.h"
 #include "dynamap/evaluation/evaluation.h"
 #include "dynamap/input/line_reader.h"
 #include "dynamap/input/open_source.h"
 #include "dynamap/input/pose_file.h"
-#include "dynamap/localization/likelihood_field.h"
 #include "dynamap/mapping/dynamic_map_options.h"
 #include "dynamap/outputs/map_job.h"
 #include "dynamap/outputs/json.h"
@@ -802,16 +800,13 @@ void scoreConsistency(const std::string& log, const std::string& file) {
   std::vector<mrpt::poses::CPose2D> at;
   std::size_t without_pose = 0;
   ScanRecord rec;
-  RangeData rd;
   while (!layout.full() && source->next(rec)) {
     const TimedPose* p = poseAtTime(poses, rec.t, 1e-3);
     if (p == nullptr || !std::isfinite(p->x) || !std::isfinite(p->y) || !std::isfinite(p->phi)) {
       ++without_pose;
       continue;
     }
-    makeRangeData(*rec.scan, insertion.max_distance_insertion,
-                  insertion.horizontal_tolerance_deg * M_PI / 180.0, rd);
-    if (rd.planar && layout.add(hitPoints(rd))) at.emplace_back(p->x, p->y, p->phi);
+    if (layout.addScan(*rec.scan, insertion)) at.emplace_back(p->x, p->y, p->phi);
   }
   if (at.empty()) throw InputError(file + ": no pose at the time of any scan of " + log);
   const Consistency c = layout.score(at);

@@ -1,5 +1,7 @@
 #include "dynamap/localization/consistency.h"
 
+#include "dynamap/localization/likelihood_field.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -168,6 +170,14 @@ bool ScanLayout::add(const std::vector<mrpt::math::TPoint2D>& hits) {
   for (std::size_t k = 0; k < hits.size(); k += stride) pts.push_back({hits[k].x, hits[k].y});
   points_ += kept;
   return true;
+}
+
+bool ScanLayout::addScan(const mrpt::obs::CObservation2DRangeScan& scan,
+                         const InsertionOptions& insertion) {
+  if (full_) return false;
+  makeRangeData(scan, insertion.max_distance_insertion,
+                insertion.horizontal_tolerance_deg * M_PI / 180.0, rd_);
+  return rd_.planar && add(hitPoints(rd_));
 }
 
 Consistency ScanLayout::score(const std::vector<mrpt::poses::CPose2D>& poses) const {

@@ -1,10 +1,7 @@
 #include "dynamap/pipeline/slam_run.h"
 
 #include <chrono>
-#include <cmath>
 #include <optional>
-
-#include "dynamap/localization/likelihood_field.h"
 
 namespace dynamap {
 
@@ -17,10 +14,7 @@ OdometryCheck::OdometryCheck(std::size_t max_points) : layout_(ConsistencyOption
 
 void OdometryCheck::add(const ScanRecord& rec, const InsertionOptions& insertion) {
   odometry_.push_back(rec.pose);
-  if (layout_.full()) return;
-  makeRangeData(*rec.scan, insertion.max_distance_insertion,
-                insertion.horizontal_tolerance_deg * M_PI / 180.0, rd_);
-  if (rd_.planar && layout_.add(hitPoints(rd_))) kept_.push_back(odometry_.size() - 1);
+  if (layout_.addScan(*rec.scan, insertion)) kept_.push_back(odometry_.size() - 1);
 }
 
 void OdometryCheck::decide(SlamRun& run) const {

@@ -16,10 +16,14 @@
 // stands still fills the same cells scan after scan). Deterministic.
 
 #include <mrpt/math/TPoint2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
 #include <cstddef>
 #include <vector>
+
+#include "dynamap/base/range_data.h"
+#include "dynamap/mapping/dynamic_map_options.h"
 
 namespace dynamap {
 
@@ -62,6 +66,9 @@ class ScanLayout {
   explicit ScanLayout(const ConsistencyOptions& options = {}, std::size_t max_points = kMaxPoints);
   /// Keeps scan size() (`hits`: its hit points, robot frame, in beam order); false when full.
   bool add(const std::vector<mrpt::math::TPoint2D>& hits);
+  /// add() of the hits the mapper inserts of `scan` (beams within `insertion`'s range, the
+  /// mount applied); false, and nothing kept, for a scan that is not planar, or when full.
+  bool addScan(const mrpt::obs::CObservation2DRangeScan& scan, const InsertionOptions& insertion);
   std::size_t size() const { return scans_.size(); }
   bool full() const { return full_; }
   /// The kept scans laid out at poses[0], poses[1], ... (one per kept scan) and scored.
@@ -73,6 +80,7 @@ class ScanLayout {
   std::size_t max_points_, points_ = 0;
   bool full_ = false;
   std::vector<std::vector<MapPoint>> scans_;
+  RangeData rd_;  // addScan's, reused scan after scan
 };
 
 }  // namespace dynamap

@@ -45,7 +45,6 @@ class OdometryCheck {
   ScanLayout layout_;
   std::vector<mrpt::poses::CPose2D> odometry_;  // every scan's
   std::vector<std::size_t> kept_;               // the scans in the layout
-  RangeData rd_;
 };
 
 /// True when a run asked for `requested` maps with slam on `source` (opened with it): asked
