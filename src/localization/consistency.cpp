@@ -177,7 +177,11 @@ bool ScanLayout::addScan(const mrpt::obs::CObservation2DRangeScan& scan,
   if (full_) return false;
   makeRangeData(scan, insertion.max_distance_insertion,
                 insertion.horizontal_tolerance_deg * M_PI / 180.0, rd_);
-  return rd_.planar && add(hitPoints(rd_));
+  return addRange(rd_);
+}
+
+bool ScanLayout::addRange(const RangeData& rd) {
+  return !full_ && rd.planar && add(hitPoints(rd));  // full: not even the hits worked out
 }
 
 Consistency ScanLayout::score(const std::vector<mrpt::poses::CPose2D>& poses) const {

@@ -143,12 +143,9 @@ Slam::Slam(const SlamOptions& options, const ScanMatchOptions& matching,
 
 Slam::~Slam() = default;
 
-void Slam::add(const mrpt::poses::CPose2D& odometry,
-               const mrpt::obs::CObservation2DRangeScan& scan) {
-  // The scan's geometry once, as the mapping reads it. A scan that is not planar, or whose
-  // mount is not finite, is placed by odometry and kept out of the submaps.
-  const RangeData rd = makeRangeData(scan, insertion_.max_distance_insertion,
-                                     insertion_.horizontal_tolerance_deg * kDegToRad);
+void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
+  // A scan that is not planar, or whose mount is not finite, is placed by odometry and kept
+  // out of the submaps.
   const mrpt::poses::CPose3D& mount = rd.mount;
   const bool usable = rd.planar && std::isfinite(mount.x()) && std::isfinite(mount.y()) &&
                       std::isfinite(mount.yaw());

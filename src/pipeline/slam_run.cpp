@@ -12,9 +12,9 @@ bool usesSlam(PoseSource requested, const ScanSource& source) {
 
 OdometryCheck::OdometryCheck(std::size_t max_points) : layout_(ConsistencyOptions{}, max_points) {}
 
-void OdometryCheck::add(const ScanRecord& rec, const InsertionOptions& insertion) {
+void OdometryCheck::add(const ScanRecord& rec, const RangeData& rd) {
   odometry_.push_back(rec.pose);
-  if (layout_.addScan(*rec.scan, insertion)) kept_.push_back(odometry_.size() - 1);
+  if (layout_.addRange(rd)) kept_.push_back(odometry_.size() - 1);
 }
 
 void OdometryCheck::decide(SlamRun& run) const {
@@ -45,6 +45,7 @@ SlamRun estimateTrajectory(ScanSource& source, const MapConfig& config,
   std::optional<OdometryCheck> check;
   if (config.slam.keep_better_odometry) check.emplace();
   ScanRecord rec;
+  RangeData rd;
   std::size_t done = 0;
   while (true) {
     try {
@@ -53,8 +54,11 @@ SlamRun estimateTrajectory(ScanSource& source, const MapConfig& config,
       run.outcome.fault = e.what();
       break;
     }
-    run.slam->add(rec.pose, *rec.scan);
-    if (check) check->add(rec, config.insertion);
+    // The scan's geometry once, as the mapper works it out, for Slam and the check alike.
+    makeRangeData(*rec.scan, config.insertion.max_distance_insertion,
+                  config.insertion.horizontal_tolerance_deg * M_PI / 180.0, rd);
+    run.slam->add(rec.pose, rd);
+    if (check) check->add(rec, rd);
     if (on_scan) on_scan(++done);
   }
   run.slam->finish();

@@ -26,6 +26,13 @@ std::vector<ScanRecord> roomDrive() {
   return recs;
 }
 
+/// OdometryCheck::add of `rec` with its scan worked out as pass 1 does (default insertion).
+void addTo(OdometryCheck& check, const ScanRecord& rec) {
+  const InsertionOptions ins;
+  check.add(rec, makeRangeData(*rec.scan, ins.max_distance_insertion,
+                               ins.horizontal_tolerance_deg * M_PI / 180.0));
+}
+
 /// The poses of `recs`, the second half of them moved by (dx, 0): a map doubled by drift.
 std::vector<mrpt::poses::CPose2D> drifted(const std::vector<ScanRecord>& recs, double dx) {
   std::vector<mrpt::poses::CPose2D> poses;
@@ -39,7 +46,7 @@ std::vector<mrpt::poses::CPose2D> drifted(const std::vector<ScanRecord>& recs, d
 TEST(OdometryCheck, KeepsTheOdometryWhenItLaysTheScansBetter) {
   const auto recs = roomDrive();
   OdometryCheck check;
-  for (const auto& r : recs) check.add(r, InsertionOptions{});
+  for (const auto& r : recs) addTo(check, r);
   SlamRun run;
   run.poses = drifted(recs, 0.08);
   check.decide(run);
@@ -57,7 +64,7 @@ TEST(OdometryCheck, KeepsSlamsPosesWhenTheOdometryDrifted) {
   const auto odometry = drifted(recs, 0.08);
   for (std::size_t i = 0; i < recs.size(); ++i) recs[i].pose = odometry[i];
   OdometryCheck check;
-  for (const auto& r : recs) check.add(r, InsertionOptions{});
+  for (const auto& r : recs) addTo(check, r);
   SlamRun run;
   run.poses = truth;
   check.decide(run);
@@ -70,7 +77,7 @@ TEST(OdometryCheck, MakesNoCheckPastItsBoundOrWithoutOnePosePerScan) {
   const auto recs = roomDrive();
   // 181 beams, every 3rd hit kept: 61 points a scan, so 100 scans' worth is kept, not 120.
   OdometryCheck bounded(6100);
-  for (const auto& r : recs) bounded.add(r, InsertionOptions{});
+  for (const auto& r : recs) addTo(bounded, r);
   SlamRun run;
   run.poses = drifted(recs, 0.08);
   const auto slam = run.poses;
@@ -81,7 +88,7 @@ TEST(OdometryCheck, MakesNoCheckPastItsBoundOrWithoutOnePosePerScan) {
   EXPECT_EQ(run.poses, slam);
 
   OdometryCheck check;
-  for (const auto& r : recs) check.add(r, InsertionOptions{});
+  for (const auto& r : recs) addTo(check, r);
   SlamRun short_run;  // pass 1 returned fewer poses than scans added: nothing to compare
   short_run.poses.assign(slam.begin(), slam.begin() + 100);
   check.decide(short_run);
@@ -91,7 +98,7 @@ TEST(OdometryCheck, MakesNoCheckPastItsBoundOrWithoutOnePosePerScan) {
   // 20 scans: none has a partner more than 50 scans away, every distance is the cap for both
   // trajectories, and a tie keeps slam's poses.
   OdometryCheck few;
-  for (std::size_t i = 0; i < 20; ++i) few.add(recs[i], InsertionOptions{});
+  for (std::size_t i = 0; i < 20; ++i) addTo(few, recs[i]);
   SlamRun tiny;
   tiny.poses.assign(slam.begin(), slam.begin() + 20);
   tiny.poses[5] = mrpt::poses::CPose2D(9, 9, 1);  // differs from the odometry

@@ -69,6 +69,8 @@ class ScanLayout {
   /// add() of the hits the mapper inserts of `scan` (beams within `insertion`'s range, the
   /// mount applied); false, and nothing kept, for a scan that is not planar, or when full.
   bool addScan(const mrpt::obs::CObservation2DRangeScan& scan, const InsertionOptions& insertion);
+  /// addScan() of a scan already worked out (makeRangeData() at the insertion range).
+  bool addRange(const RangeData& rd);
   std::size_t size() const { return scans_.size(); }
   bool full() const { return full_; }
   /// The kept scans laid out at poses[0], poses[1], ... (one per kept scan) and scored.

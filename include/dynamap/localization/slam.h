@@ -20,7 +20,6 @@
 // per loop attempt, and an optimisation per optimise_every_nodes nodes with a new loop closure.
 // Deterministic: single-threaded, the same scans and odometry give the same poses bit for bit.
 
-#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
 #include <cstddef>
@@ -111,8 +110,9 @@ class Slam {
        const InsertionOptions& insertion);
   ~Slam();
 
-  /// The next scan, taken at odometry pose `odometry`.
-  void add(const mrpt::poses::CPose2D& odometry, const mrpt::obs::CObservation2DRangeScan& scan);
+  /// The next scan, taken at odometry pose `odometry`: `rd` is its makeRangeData() at the
+  /// insertion options' range and tolerance, as the mapper works it out.
+  void add(const mrpt::poses::CPose2D& odometry, const RangeData& rd);
   /// The last optimisation. Poses are final afterwards.
   void finish();
 

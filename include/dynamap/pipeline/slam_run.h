@@ -38,7 +38,8 @@ struct SlamRun {
 class OdometryCheck {
  public:
   explicit OdometryCheck(std::size_t max_points = ScanLayout::kMaxPoints);
-  void add(const ScanRecord& rec, const InsertionOptions& insertion);
+  /// The scan of `rec`, worked out as `rd` (makeRangeData() at the insertion range).
+  void add(const ScanRecord& rec, const RangeData& rd);
   void decide(SlamRun& run) const;
 
  private:
