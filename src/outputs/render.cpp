@@ -189,8 +189,15 @@ const std::pair<double, double>* trailEnd(const PersonTrail& p) {
   return nullptr;
 }
 
-// Magenta: apart from the red of D, the green of object boxes and the blue of the robot.
-const mrpt::img::TColor kTrail(200, 0, 200);
+// A colour per person, so that crossing trails can be told apart: none near the red of D, the
+// green of object boxes, the blue of the robot or the yellow of object labels, each dark enough
+// for a white label. Person k takes colour (k - 1) mod 6; magenta first.
+const mrpt::img::TColor kTrails[] = {{200, 0, 200}, {220, 100, 0},  {0, 130, 150},
+                                     {140, 70, 20}, {100, 30, 170}, {230, 50, 130}};
+const mrpt::img::TColor& trailColour(int id) {
+  constexpr int n = static_cast<int>(sizeof(kTrails) / sizeof(kTrails[0]));
+  return kTrails[((id - 1) % n + n) % n];
+}
 
 void drawTrailLines(CImage& img, const DynamicGridMap& map, const View& view,
                     const std::vector<PersonTrail>& people) {
@@ -200,14 +207,14 @@ void drawTrailLines(CImage& img, const DynamicGridMap& map, const View& view,
       if (std::isnan(p.points[k - 1].first) || std::isnan(p.points[k].first)) continue;
       const Pixel a = toPixel(map, view, p.points[k - 1].first, p.points[k - 1].second);
       const Pixel b = toPixel(map, view, p.points[k].first, p.points[k].second);
-      img.line(a.x, a.y, b.x, b.y, kTrail, 1);
+      img.line(a.x, a.y, b.x, b.y, trailColour(p.id), 1);
     }
   }
 }
 
 void drawTrailLabels(CImage& img, const DynamicGridMap& map, const View& view,
                      const std::vector<PersonTrail>& people, LabelBoard& board) {
-  const mrpt::img::TColor trail = kTrail, text(255, 255, 255);
+  const mrpt::img::TColor text(255, 255, 255);
   int char_w = 0, char_h = 0;
   selectFont(img, char_w, char_h);
   const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
@@ -215,6 +222,7 @@ void drawTrailLabels(CImage& img, const DynamicGridMap& map, const View& view,
     const auto* last = trailEnd(p);
     if (last == nullptr) continue;
     const Pixel end = toPixel(map, view, last->first, last->second);
+    const mrpt::img::TColor& trail = trailColour(p.id);
     img.filledRectangle(end.x - 2, end.y - 2, end.x + 2, end.y + 2, trail);
     const std::string label = "P" + std::to_string(p.id);
     const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
@@ -315,8 +323,10 @@ CImage withLegend(const CImage& map_img, double metres_per_px, bool people, bool
     });
   }
   if (people) {
-    item("person trail, P<id> at its end", [&](int x0, int y) {
-      img.line(x0, y + char_h / 2, x0 + 16, y + char_h / 2, kTrail, 2);
+    item("person trails (a colour each), P<id> at the end", [&](int x0, int y) {
+      for (int k = 0; k < 3; ++k) {
+        img.line(x0 + 6 * k, y + char_h / 2, x0 + 6 * k + 4, y + char_h / 2, kTrails[k], 2);
+      }
     });
   }
   return img;

@@ -279,17 +279,27 @@ TEST(MapTimelapse, FramesBecomeAVideoOfThemAll) {
             0)
       << count;
   EXPECT_EQ(std::stoi(count), 16);
-  // People are on the frames: a frame mid-run holds the trails' magenta.
-  mrpt::img::CImage frame;
-  ASSERT_TRUE(frame.loadFromFile(out + "/frames/000800.png"));
-  std::size_t magenta = 0;
-  for (int y = 0; y < static_cast<int>(frame.getHeight()); ++y) {
-    for (int x = 0; x < static_cast<int>(frame.getWidth()); ++x) {
-      const auto* px = frame.ptr<std::uint8_t>(x, y);  // BGR
-      magenta += px[0] == 200 && px[1] == 0 && px[2] == 200;
+  // People are on the frames: the map of a frame mid-run holds the trail of the one person in
+  // view then (id 3, teal), and the final overlay a colour for each of the three people (magenta,
+  // orange, teal for ids 1 to 3). The legend strip below the map (its last 50 rows at most)
+  // shows the first three colours too: it is not counted.
+  const auto pixels = [](const std::string& png, int r, int g, int b) {
+    mrpt::img::CImage img;
+    EXPECT_TRUE(img.loadFromFile(png)) << png;
+    std::size_t n = 0;
+    for (int y = 0; y + 50 < static_cast<int>(img.getHeight()); ++y) {
+      for (int x = 0; x < static_cast<int>(img.getWidth()); ++x) {
+        const auto* px = img.ptr<std::uint8_t>(x, y);  // BGR
+        n += px[0] == b && px[1] == g && px[2] == r;
+      }
     }
-  }
-  EXPECT_GT(magenta, 20u);
+    return n;
+  };
+  EXPECT_GT(pixels(out + "/frames/000800.png", 0, 130, 150), 20u);
+  EXPECT_EQ(pixels(out + "/frames/000800.png", 200, 0, 200), 0u);  // person 1 is not in view
+  EXPECT_GT(pixels(out + "/overlay.png", 200, 0, 200), 20u);
+  EXPECT_GT(pixels(out + "/overlay.png", 220, 100, 0), 20u);
+  EXPECT_GT(pixels(out + "/overlay.png", 0, 130, 150), 20u);
 }
 
 }  // namespace

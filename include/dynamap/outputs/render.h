@@ -44,8 +44,8 @@ mrpt::img::CImage renderStaticOn(const mrpt::maps::COccupancyGridMap2D& grid,
 /// S in grey levels, D cells above object_threshold in red, the robot's path as a thin blue line,
 /// and, given `objects`, each present object's box and circle with a label "<id>: <size> m".
 /// Shows the observed part of the grid (observedView), not the unknown margins around it.
-/// Given `people`, each person's trail as a magenta line with a dot and "P<id>" at its last
-/// position (labels kept apart from each other).
+/// Given `people`, each person's trail as a line in their id's colour (six in turn, magenta
+/// first) with a dot and "P<id>" at its last position (labels kept apart from each other).
 mrpt::img::CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
                                 const std::vector<TrackedObject>* objects = nullptr,
                                 const std::vector<PersonTrail>* people = nullptr);
