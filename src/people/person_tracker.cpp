@@ -104,6 +104,9 @@ DiscView viewDisc(const ScanHits& h, double x, double y, double r) {
 namespace {
 constexpr double kInitialVelocityStd = 1.0;  // [m/s] a new track could walk any way
 constexpr double kStoppedVelocityStd = 0.1;  // [m/s] a person seen standing
+// A track that appears this many gates from where someone stood unseen is them walking off: out
+// of the laser's view they may have taken a step or two before it saw them.
+constexpr double kTakeBackGates = 3;
 double speedOf(const ConstantVelocityFilter& f) { return std::hypot(f.vx(), f.vy()); }
 }  // namespace
 
@@ -191,12 +194,54 @@ PersonTrack* PersonTracker::reidentify(double x, double y, double t) {
   return best;
 }
 
+bool PersonTracker::takeBack(PersonTrack& tr, const PersonTrack* lost, double t) {
+  const auto& tent = std::get<TentativeState>(tr.state);  // only tentative tracks are confirmed
+  // Where they walked off from, not how far they came since.
+  const double x = tent.born_x, y = tent.born_y;
+  const double beaten = lost ? std::hypot(lost->detected_x - x, lost->detected_y - y)
+                             : std::numeric_limits<double>::infinity();
+  auto place = stood_unseen_.end();
+  double best = kTakeBackGates * options_.gate;
+  for (auto it = stood_unseen_.begin(); it != stood_unseen_.end(); ++it) {
+    const double d = std::hypot(it->x - x, it->y - y);
+    if (d <= best && d < beaten) place = it, best = d;
+  }
+  if (place == stood_unseen_.end()) return false;
+  const auto holder = std::find_if(tracks_.begin(), tracks_.end(), [&](const PersonTrack& o) {
+    return &o != &tr && o.id == place->id && o.isPerson();
+  });
+  if (holder == tracks_.end()) return false;  // the id is lost again: re-identification's
+  tr.id = place->id;
+  stood_unseen_.erase(place);
+  tr.first_reported_t = holder->first_reported_t;
+  tr.path_length = holder->path_length;
+  auto& pts = trails_[static_cast<std::size_t>(tr.id - 1)].points;
+  if (!pts.empty() && trail_points_ < kMaxTrailPoints) {  // no line from the other person
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    pts.emplace_back(nan, nan);
+    ++trail_points_;
+  }
+  holder->id = next_id_++;  // whoever had it is someone else, from now on
+  trails_.push_back({holder->id, {}});
+  holder->first_reported_t = t;
+  holder->path_length = 0;
+  tr.state = ConfirmedState{};
+  tr.last_x = tr.filter.x();
+  tr.last_y = tr.filter.y();
+  return true;
+}
+
 void PersonTracker::confirm(PersonTrack& tr, double t) {
   if (const auto* tent = std::get_if<TentativeState>(&tr.state); tent && tent->near_static) {
     walk_offs_.push_back({tent->born_x, tent->born_y, tent->from_x, tent->from_y, tent->born_t});
   }
   PersonTrack* lost = reidentify(tr.filter.x(), tr.filter.y(), t);
+  if (takeBack(tr, lost, t)) return;
   if (lost != nullptr) {  // a person back in view: their id, their figures so far
+    if (const auto* c = std::get_if<CoastingState>(&lost->state); c && c->unseen_standing) {
+      stood_unseen_.push_back(
+          {lost->id, lost->detected_x, lost->detected_y, lost->last_detected_t});
+    }
     tr.id = lost->id;
     auto& pts = trails_[static_cast<std::size_t>(tr.id - 1)].points;
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -331,6 +376,14 @@ bool isReported(const PersonTrack& tr) {
 void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanHits& hits,
                            double t) {
   walk_offs_.clear();
+  // A place seen empty is left: whoever stood there walked off unseen.
+  stood_unseen_.erase(std::remove_if(stood_unseen_.begin(), stood_unseen_.end(),
+                                     [&](const StoodUnseen& p) {
+                                       return t - p.t > options_.lost_s ||
+                                              viewDisc(hits, p.x, p.y, options_.hold_radius) ==
+                                                  DiscView::Empty;
+                                     }),
+                      stood_unseen_.end());
   predictAll(t);
   const std::vector<int> match = associate(dets);
   std::vector<char> used(dets.size(), 0);

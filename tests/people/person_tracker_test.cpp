@@ -435,6 +435,51 @@ TEST(PersonTracker, AnIdGivenBackIsNeverAlsoKeptByTheTrackThatHadIt) {
   }
 }
 
+// A stands at (2, 0) from 2 s, seen, then out of view from 4 s. B, out of view from 2 s, comes
+// back at 6 s at (3.5, 1.5), nearer where A stood than where B went: re-identification gives B
+// A's id. At 10 s A walks off from their place. Unless `seen_empty_from` comes first (a beam
+// through A's place from then on), A takes their id back and B goes on under a new one.
+struct StoodUnseenRun {
+  int a_id = 0, b_id = 0;  // reported at the end
+  std::size_t ids = 0;     // people ever confirmed
+};
+StoodUnseenRun runStoodUnseen(double seen_empty_from) {
+  PersonTracker tracker;
+  const ScanHits nothing;  // no beam: every place unseen
+  ScanHits through = nothing;  // one beam from (2, -3) north, through A's place, to 10 m
+  through.sensor_x = 2, through.sensor_y = -3, through.max_range = 10;
+  through.angles = {M_PI / 2};
+  through.ranges = {-1.f};
+  StoodUnseenRun out;
+  for (int k = 0; k <= 65; ++k) {
+    const double t = 0.2 * k;
+    std::vector<PersonDetection> dets;
+    if (t <= 4.0) dets.push_back({std::min(t, 2.0), 0, 0});             // A
+    if (t >= 10.0) dets.push_back({2, -(t - 10), 0});                   // A walks off
+    if (t <= 2.0) dets.push_back({8 - t, 3, 0});                        // B
+    if (t >= 6.0) dets.push_back({3.5 + (t - 6), 1.5, 0});              // B back
+    tracker.update(dets, t >= seen_empty_from ? through : nothing, t);
+  }
+  for (const PersonRow& r : tracker.reported()) {
+    if (std::hypot(r.x - 2, r.y + 3) < 0.5) out.a_id = r.person_id;
+    if (std::hypot(r.x - 10.5, r.y - 1.5) < 0.5) out.b_id = r.person_id;
+  }
+  out.ids = tracker.summaries().size();
+  return out;
+}
+
+TEST(PersonTracker, SomeoneWhoStoodOutOfViewTakesTheirIdBackWhenTheyWalkOff) {
+  const StoodUnseenRun r = runStoodUnseen(1e9);
+  EXPECT_EQ(r.a_id, 1);
+  EXPECT_EQ(r.b_id, 3);  // not 1: one id is one person at a time
+  EXPECT_EQ(r.ids, 3u);
+  // Their place seen empty before (from 8 s), they walked off unseen: the one who walks off
+  // there later is re-identified as usual (B's id, B being the nearest lost person).
+  const StoodUnseenRun seen = runStoodUnseen(8.0);
+  EXPECT_EQ(seen.a_id, 2);
+  EXPECT_EQ(seen.b_id, 1);
+}
+
 // --- people standing still, and the object table ---------------------------------------------
 
 // The robot at (-5, 0) looks east 2 s (the floor at (0, 2) seen free), turns and drives west

@@ -22,7 +22,8 @@
 // coast_s (walking), or seen empty, a person is Lost: kept lost_s, and a track confirmed within
 // reach of where they were last detected (reid_distance, and gate + max_speed x the time since)
 // takes their id back, the nearest such person first; such a track is confirmed after
-// reacquire_s and reacquire_travel.
+// reacquire_s and reacquire_travel. One who went out of view standing and whose id went so to
+// someone else gets it back when they walk off from their place (takeBack).
 
 #include <cstddef>
 #include <variant>
@@ -179,6 +180,18 @@ class PersonTracker {
   /// or nullptr: a new person.
   PersonTrack* reidentify(double x, double y, double t);
   void confirm(PersonTrack& tr, double t);
+  /// Someone went out of view standing, and re-identification gave their id to another track
+  /// (nobody saw their place empty: they may as well still be there). Until their place is
+  /// seen empty, or lost_s, a track confirmed that appeared within kTakeBackGates gates of it
+  /// (and nearer than `lost`'s last detection, re-identification's choice) is them walking off:
+  /// it takes the id back, and the track that had it goes on under a new id. True when so.
+  bool takeBack(PersonTrack& tr, const PersonTrack* lost, double t);
+  struct StoodUnseen {
+    int id;
+    double x, y;  // their last detection
+    double t;     // ...when
+  };
+  std::vector<StoodUnseen> stood_unseen_;
   void record(PersonTrack& tr, double t);
 
   PeopleOptions options_;
