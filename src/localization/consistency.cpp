@@ -175,8 +175,7 @@ bool ScanLayout::add(const std::vector<mrpt::math::TPoint2D>& hits) {
 bool ScanLayout::addScan(const mrpt::obs::CObservation2DRangeScan& scan,
                          const InsertionOptions& insertion) {
   if (full_) return false;
-  makeRangeData(scan, insertion.max_distance_insertion,
-                insertion.horizontal_tolerance_deg * M_PI / 180.0, rd_);
+  insertion.rangeData(scan, rd_);
   return addRange(rd_);
 }
 

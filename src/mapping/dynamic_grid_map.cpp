@@ -205,8 +205,7 @@ bool DynamicGridMap::internal_insertObservation(
   changed_.clear();
   last_stats_ = {};
   if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs)) {
-    makeRangeData(*scan, insertion_.max_distance_insertion,
-                  insertion_.horizontal_tolerance_deg * M_PI / 180.0, range_);
+    insertion_.rangeData(*scan, range_);
     syncLayers();  // after a resize of S alone (see layersAligned)
     return insertScan(range_, robotPose ? *robotPose : mrpt::poses::CPose3D());
   }

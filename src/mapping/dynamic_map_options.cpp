@@ -9,6 +9,7 @@
 
 #include "dynamap/base/ini.h"
 #include "dynamap/base/option_table.h"
+#include "dynamap/base/range_data.h"
 
 namespace dynamap {
 namespace {
@@ -131,6 +132,11 @@ void InsertionOptions::validate(const std::string& src) const {
 
 void InsertionOptions::writeIni(std::ostream& out) const {
   table().write(*this, out);
+}
+
+void InsertionOptions::rangeData(const mrpt::obs::CObservation2DRangeScan& scan,
+                                 RangeData& out) const {
+  makeRangeData(scan, max_distance_insertion, horizontal_tolerance_deg * M_PI / 180.0, out);
 }
 
 }  // namespace dynamap

@@ -155,8 +155,7 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   countTime(rec);
   ScanResult result;
   // 1. The scan's geometry, once for the matcher, the grid and the tracker.
-  makeRangeData(*rec.scan, config_.insertion.max_distance_insertion,
-                config_.insertion.horizontal_tolerance_deg * M_PI / 180.0, range_);
+  config_.insertion.rangeData(*rec.scan, range_);
   const RangeData& rd = range_;
   result.pose = matcher_ ? correctPose(rec, rd) : rec.pose;  // 2. where the scan was taken
   // 3. People, detected against S as it was before this scan (the paper's S_{t-1}).

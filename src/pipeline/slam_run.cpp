@@ -55,8 +55,7 @@ SlamRun estimateTrajectory(ScanSource& source, const MapConfig& config,
       break;
     }
     // The scan's geometry once, as the mapper works it out, for Slam and the check alike.
-    makeRangeData(*rec.scan, config.insertion.max_distance_insertion,
-                  config.insertion.horizontal_tolerance_deg * M_PI / 180.0, rd);
+    config.insertion.rangeData(*rec.scan, rd);
     run.slam->add(rec.pose, rd);
     if (check) check->add(rec, rd);
     if (on_scan) on_scan(++done);

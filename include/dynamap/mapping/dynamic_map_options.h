@@ -9,8 +9,13 @@
 #include <iosfwd>
 #include <string>
 
+namespace mrpt::obs {
+class CObservation2DRangeScan;
+}
+
 namespace dynamap {
 
+struct RangeData;
 class IniFile;
 template <typename T>
 class OptionTable;
@@ -81,6 +86,10 @@ struct InsertionOptions {
   /// A no-echo beam frees space up to half the last valid range (as MRPT does).
   bool invalid_ranges_as_free = true;
   double horizontal_tolerance_deg = 0.05;  ///< [deg] max pitch/roll of a scan to insert it; >= 0
+
+  /// The geometry of `scan` as insertion reads it (makeRangeData() at this range and tolerance),
+  /// into `out`, reusing its buffers: the mapper, the grid and slam all work a scan out so.
+  void rangeData(const mrpt::obs::CObservation2DRangeScan& scan, RangeData& out) const;
 
   static const OptionTable<InsertionOptions>& table();
   void load(const IniFile& ini);
