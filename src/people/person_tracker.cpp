@@ -215,20 +215,25 @@ bool PersonTracker::takeBack(PersonTrack& tr, const PersonTrack* lost, double t)
   stood_unseen_.erase(place);
   tr.first_reported_t = holder->first_reported_t;
   tr.path_length = holder->path_length;
-  auto& pts = trails_[static_cast<std::size_t>(tr.id - 1)].points;
-  if (!pts.empty() && trail_points_ < kMaxTrailPoints) {  // no line from the other person
+  breakTrail(tr.id);  // no line from the other person
+  newId(*holder, t);  // whoever had it is someone else, from now on
+  return true;
+}
+
+void PersonTracker::breakTrail(int id) {
+  auto& pts = trails_[static_cast<std::size_t>(id - 1)].points;
+  if (!pts.empty() && trail_points_ < kMaxTrailPoints) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     pts.emplace_back(nan, nan);
     ++trail_points_;
   }
-  holder->id = next_id_++;  // whoever had it is someone else, from now on
-  trails_.push_back({holder->id, {}});
-  holder->first_reported_t = t;
-  holder->path_length = 0;
-  tr.state = ConfirmedState{};
-  tr.last_x = tr.filter.x();
-  tr.last_y = tr.filter.y();
-  return true;
+}
+
+void PersonTracker::newId(PersonTrack& tr, double t) {
+  tr.id = next_id_++;
+  trails_.push_back({tr.id, {}});
+  tr.first_reported_t = t;
+  tr.path_length = 0;
 }
 
 void PersonTracker::confirm(PersonTrack& tr, double t) {
@@ -236,27 +241,21 @@ void PersonTracker::confirm(PersonTrack& tr, double t) {
     walk_offs_.push_back({tent->born_x, tent->born_y, tent->from_x, tent->from_y, tent->born_t});
   }
   PersonTrack* lost = reidentify(tr.filter.x(), tr.filter.y(), t);
-  if (takeBack(tr, lost, t)) return;
-  if (lost != nullptr) {  // a person back in view: their id, their figures so far
+  if (takeBack(tr, lost, t)) {
+    // someone who stood out of view, walking off: their id back from whoever had it
+  } else if (lost != nullptr) {  // a person back in view: their id, their figures so far
     if (const auto* c = std::get_if<CoastingState>(&lost->state); c && c->unseen_standing) {
       stood_unseen_.push_back(
           {lost->id, lost->detected_x, lost->detected_y, lost->last_detected_t});
     }
     tr.id = lost->id;
-    auto& pts = trails_[static_cast<std::size_t>(tr.id - 1)].points;
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    if (!pts.empty() && trail_points_ < kMaxTrailPoints) {  // no line across where they were unseen
-      pts.emplace_back(nan, nan);
-      ++trail_points_;
-    }
+    breakTrail(tr.id);  // no line across where they were unseen
     tr.first_reported_t = lost->first_reported_t;
     tr.path_length = lost->path_length;
     lost->id = 0;  // ends without a summary of its own
     lost->state = EndedState{t};
   } else {
-    tr.id = next_id_++;
-    trails_.push_back({tr.id, {}});
-    tr.first_reported_t = t;
+    newId(tr, t);
   }
   tr.state = ConfirmedState{};
   tr.last_x = tr.filter.x();

@@ -184,8 +184,13 @@ class PersonTracker {
   /// (nobody saw their place empty: they may as well still be there). Until their place is
   /// seen empty, or lost_s, a track confirmed that appeared within kTakeBackGates gates of it
   /// (and nearer than `lost`'s last detection, re-identification's choice) is them walking off:
-  /// it takes the id back, and the track that had it goes on under a new id. True when so.
+  /// it takes the id back (and that track's figures so far), and the track that had it goes on
+  /// under a new id. True when so; `tr` is left to confirm() to confirm.
   bool takeBack(PersonTrack& tr, const PersonTrack* lost, double t);
+  /// A break in id's trail (none drawn across where they were unseen, or from someone else's).
+  void breakTrail(int id);
+  /// Gives `tr` the next id, a trail of its own and figures from t on.
+  void newId(PersonTrack& tr, double t);
   struct StoodUnseen {
     int id;
     double x, y;  // their last detection
