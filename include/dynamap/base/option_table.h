@@ -37,8 +37,8 @@ struct Range {
 template <typename T>
 struct Option {
   const char* key;
-  std::variant<double T::*, int T::*, bool T::*> member;
-  Range range;          ///< ignored for bools; ints must also be whole numbers
+  std::variant<double T::*, int T::*, bool T::*, std::string T::*> member;
+  Range range;          ///< ignored for bools and strings; ints must also be whole numbers
   const char* unit;     ///< "m", "deg", "s", or "" for none
   const char* meaning;  ///< one line: the comment written after the value in config.ini
   int pad = 1;          ///< spaces between the value and the ';' of its comment in config.ini
@@ -113,6 +113,8 @@ void OptionTable<T>::load(const IniFile& ini, T& out) const {
         option_detail::rejectRange(ini.name(), section_, r.key, static_cast<double>(v), r.range,
                                    r.unit, true);
       out.** i = static_cast<int>(v);
+    } else if (auto str = std::get_if<std::string T::*>(&r.member)) {
+      out.**str = ini.getString(section_, r.key, out.**str);
     } else {
       out.*std::get<bool T::*>(r.member) =
           ini.getBool(section_, r.key, out.*std::get<bool T::*>(r.member));
@@ -143,6 +145,8 @@ void OptionTable<T>::write(const T& v, std::ostream& out) const {
       value = option_detail::formatNumber(v.**d);
     } else if (auto i = std::get_if<int T::*>(&r.member)) {
       value = std::to_string(v.**i);
+    } else if (auto str = std::get_if<std::string T::*>(&r.member)) {
+      value = v.**str;
     } else {
       value = v.*std::get<bool T::*>(r.member) ? "true" : "false";
     }
@@ -159,6 +163,9 @@ std::vector<OptionDoc> OptionTable<T>::describe(const T& defaults) const {
       d.default_value = option_detail::formatNumber(defaults.**p);
     } else if (auto i = std::get_if<int T::*>(&r.member)) {
       d.default_value = std::to_string(defaults.**i);
+    } else if (auto str = std::get_if<std::string T::*>(&r.member)) {
+      d.default_value = defaults.**str;
+      d.range = "text";
     } else {
       d.default_value = defaults.*std::get<bool T::*>(r.member) ? "true" : "false";
       d.range = "true or false";
