@@ -37,7 +37,7 @@ DEB_PACKAGES := cmake g++ make \
   libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
   libmrpt-graphslam-dev \
   libeigen3-dev libboost-program-options-dev libgtest-dev zlib1g-dev nlohmann-json3-dev \
-  mrpt-common ffmpeg $(ROSBAG_PACKAGES)
+  libopencv-ml-dev mrpt-common ffmpeg $(ROSBAG_PACKAGES)
 
 BUILD_DIR ?= build
 BUILD_TYPE ?= Release
@@ -55,7 +55,7 @@ BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corrid
 # corridors_odom's ground truth made to drift.
 SLAM_BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors_odom/corridors_odom.rawlog)
 
-.PHONY: all deps configure build test demo bench format clean scenarios eval eval-heldout test-asan fuzz \
+.PHONY: legs eval-people all deps configure build test demo bench format clean scenarios eval eval-heldout test-asan fuzz \
   fuzz-deps bench-long compare-icp-slam
 
 all: build
@@ -99,6 +99,30 @@ bench: build
 	$(BUILD_DIR)/dynamap_bench_startup --dynamap $(DYNAMAP) --input rawlogs/tiny/tiny.rawlog \
 	  --config config/default.ini
 	$(BUILD_DIR)/dynamap_bench_slam --dynamap $(DYNAMAP) --input $(SLAM_BENCH_INPUT)
+
+# The people detector's leg classifier (config/legs.yml.gz, built into dynamap): grown on
+# leg_tracker's real training bags, four marked-leg bags and two of the three lasers of the
+# empty-room bag, and scored on the other two marked-leg bags and the third laser
+# (docs/objects-and-people.md). The same bags give the same file.
+LEG_DATA ?= $(DATASETS)/people/leg_training
+legs: build
+	$(DYNAMAP) train-legs \
+	  $(foreach n,1 2 3 4,--positive $(LEG_DATA)/positive_$(n)_extracted.bag) \
+	  --negative $(LEG_DATA)/negative_2.bag:/left_scan --negative $(LEG_DATA)/negative_2.bag:/right_scan \
+	  $(foreach n,6 7,--validate-positive $(LEG_DATA)/positive_$(n)_extracted.bag) \
+	  --validate-negative $(LEG_DATA)/negative_2.bag:/rear_scan --out config/legs.yml.gz
+
+# CLEAR MOT on the real people bags (leg_tracker's annotated person-following bag, unzipped
+# into $(DATASETS)/people/) and the object table of a standing robot with people walking past.
+PEOPLE_BAG ?= $(DATASETS)/people/person_following_outdoor_1.bag
+eval-people: build
+	@mkdir -p out/real
+	@[ -f "$(PEOPLE_BAG)" ] || { echo "dynamap: $(PEOPLE_BAG) not found (unzip person_following_outdoor_1.bag.zip there)"; exit 1; }
+	$(DYNAMAP) map --input $(PEOPLE_BAG) --scan-topic /scan_base2 --poses fixed --out out/real/person_following
+	$(DYNAMAP) eval --people-bag $(PEOPLE_BAG) --scan-topic /scan_base2 --result out/real/person_following
+	$(DYNAMAP) map --input $(DATASETS)/people/demo_stationary_simple_environment.bag --poses fixed \
+	  --out out/real/demo_stationary
+	@echo "demo_stationary: $$(($$(wc -l < out/real/demo_stationary/objects.csv) - 1)) object(s) in the table"
 
 # Each config/scenarios/<name>.ini writes rawlogs/<name>/<name>.{rawlog,gt.txt,objects.csv,
 # moves.csv,world.png}; the SimBundled tests fail when the committed files are stale.

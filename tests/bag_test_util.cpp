@@ -1,5 +1,6 @@
 #include "bag_test_util.h"
 
+#include <geometry_msgs/PoseArray.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <sensor_msgs/LaserScan.h>
@@ -7,6 +8,45 @@
 
 #include <cmath>
 #include <limits>
+
+// leg_tracker/Person, which Debian ships no class of: a Pose and an id, serialised as ROS does
+// (its MD5 is made up: readers check the type name and the size).
+namespace dynamap::test {
+struct PersonMsg {
+  geometry_msgs::Pose pose;
+  std::uint32_t id = 0;
+};
+}  // namespace dynamap::test
+
+namespace ros::message_traits {
+template <>
+struct MD5Sum<dynamap::test::PersonMsg> {
+  static const char* value() { return "0a7d6fc2f4e5ef5ca8b2f5e10f2c5b4e"; }
+  static const char* value(const dynamap::test::PersonMsg&) { return value(); }
+};
+template <>
+struct DataType<dynamap::test::PersonMsg> {
+  static const char* value() { return "leg_tracker/Person"; }
+  static const char* value(const dynamap::test::PersonMsg&) { return value(); }
+};
+template <>
+struct Definition<dynamap::test::PersonMsg> {
+  static const char* value() { return "geometry_msgs/Pose pose\nuint32 id\n"; }
+  static const char* value(const dynamap::test::PersonMsg&) { return value(); }
+};
+}  // namespace ros::message_traits
+
+namespace ros::serialization {
+template <>
+struct Serializer<dynamap::test::PersonMsg> {
+  template <typename Stream, typename T>
+  inline static void allInOne(Stream& stream, T m) {
+    stream.next(m.pose);
+    stream.next(m.id);
+  }
+  ROS_DECLARE_ALLINONE_SERIALIZER
+};
+}  // namespace ros::serialization
 
 namespace dynamap::test {
 namespace {
@@ -38,6 +78,27 @@ void BagWriter::scan(const std::string& topic, double t, const RosScan& s) {
   m.range_min = s.range_min;
   m.range_max = s.range_max;
   m.ranges = s.ranges;
+  bag_->write(topic, ros::Time(t), m);
+}
+
+void BagWriter::poseArray(const std::string& topic, double t,
+                          const std::vector<std::pair<double, double>>& points) {
+  geometry_msgs::PoseArray m;
+  m.header.frame_id = "laser";
+  for (const auto& [x, y] : points) {
+    geometry_msgs::Pose p;
+    p.position.x = x;
+    p.position.y = y;
+    m.poses.push_back(p);
+  }
+  bag_->write(topic, ros::Time(t), m);
+}
+
+void BagWriter::person(const std::string& topic, double t, double x, double y, unsigned id) {
+  PersonMsg m;
+  m.pose.position.x = x;
+  m.pose.position.y = y;
+  m.id = id;
   bag_->write(topic, ros::Time(t), m);
 }
 

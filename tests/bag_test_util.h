@@ -5,6 +5,7 @@
 #include <mrpt/poses/CPose2D.h>
 
 #include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,10 @@ class BagWriter {
   /// One transform parent -> child (pose of child in parent) on /tf, or /tf_static.
   void tf(double t, const std::string& parent, const std::string& child,
           const mrpt::poses::CPose2D& pose, bool is_static = false);
+  /// A geometry_msgs/PoseArray of the points (x, y) on `topic` (leg training bags' markers).
+  void poseArray(const std::string& topic, double t, const std::vector<std::pair<double, double>>& points);
+  /// A leg_tracker/Person (a geometry_msgs/Pose and a uint32 id, no header) on `topic`.
+  void person(const std::string& topic, double t, double x, double y, unsigned id);
   /// A nav_msgs/Odometry (frame odom, child base_link) on `topic`.
   void odometry(const std::string& topic, double t, const mrpt::poses::CPose2D& pose);
   void close();

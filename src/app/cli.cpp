@@ -74,6 +74,21 @@ void Progress::finish() {
   shown_ = false;
 }
 
+void addBagOptions(po::options_description& o, const std::string& prefix) {
+  const BagOptions d;
+  const auto text = [&](const char* what) { return prefix + what; };
+  o.add_options()("scan-topic", po::value<std::string>(),
+                  text("the sensor_msgs/LaserScan topic (default: the bag's only one)").c_str())(
+      "odom-topic", po::value<std::string>(),
+      text("odometry from this nav_msgs/Odometry topic instead of /tf").c_str())(
+      "odom-frame", po::value<std::string>()->default_value(d.odom_frame),
+      text("the odometry frame of /tf (odometry: odom-frame -> base-frame)").c_str())(
+      "base-frame", po::value<std::string>()->default_value(d.base_frame),
+      text("the robot's frame (the laser's mount: base-frame -> the scan's frame)").c_str())(
+      "gt-frame", po::value<std::string>()->default_value(d.gt_frame),
+      text("ground truth is this frame's transform to base-frame in /tf").c_str());
+}
+
 BagOptions bagOptions(const po::variables_map& vm) {
   BagOptions bag;
   if (vm.count("scan-topic")) bag.scan_topic = vm["scan-topic"].as<std::string>();

@@ -44,6 +44,9 @@ bool parseImportCommand(const Args& args, const po::options_description& visible
                         po::variables_map& vm, std::string& input, std::string& output);
 
 bool stderrIsTerminal();
+/// Declares the ROS bag options (--scan-topic, --odom-topic, --odom-frame, --base-frame,
+/// --gt-frame) with the defaults of BagOptions, each meaning led by `prefix`.
+void addBagOptions(po::options_description& options, const std::string& prefix);
 /// The ROS bag options (--scan-topic, --odom-topic, --odom-frame, --base-frame, --gt-frame) of a
 /// parsed command line that declares them, as map and import-bag do.
 BagOptions bagOptions(const po::variables_map& vm);

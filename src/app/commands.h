@@ -24,6 +24,7 @@ int runImportBag(const Args& args);
 int runEval(const Args& args);
 int runConfig(const Args& args);
 int runPerturb(const Args& args);
+int runTrainLegs(const Args& args);
 
 /// Thrown for a bad command line; main() prints it with a pointer to --help.
 struct UsageError : std::runtime_error {

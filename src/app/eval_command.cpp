@@ -21,6 +21,9 @@
 #include "dynamap/base/ini.h"
 #include "dynamap/localization/consistency.h"
 #include "dynamap/evaluation/evaluation.h"
+#ifdef DYNAMAP_HAVE_ROSBAG
+#include "dynamap/evaluation/bag_people_truth.h"
+#endif
 #include "dynamap/input/line_reader.h"
 #include "dynamap/input/open_source.h"
 #include "dynamap/input/pose_file.h"
@@ -40,7 +43,8 @@ const char* const kUsage =
     "usage: dynamap eval --scenario FILE --truth PREFIX --result DIR [--config FILE]\n"
     "       dynamap eval --summary DIR...\n"
     "       dynamap eval --truth PREFIX --trajectory FILE\n"
-    "       dynamap eval --input LOG --trajectory FILE [--truth PREFIX]\n\n"
+    "       dynamap eval --input LOG --trajectory FILE [--truth PREFIX]\n"
+    "       dynamap eval --people-bag BAG --result DIR [--scan-topic T] [--person-topic T]\n\n"
     "Scores a `dynamap map` result against the simulator's ground truth: per object move\n"
     "(the paper's Table 3: correctly detected, not detected, size estimation errors, static\n"
     "parts detected as objects, latency) and per cell (SA, DA, AA, HA of the static map, and\n"
@@ -713,6 +717,40 @@ int runSummary(const std::vector<std::string>& dirs, std::ostream& o) {
   return kExitOk;
 }
 
+// ---- a real bag's people -------------------------------------------------------------------
+
+/// --people-bag BAG --result DIR: CLEAR MOT of DIR/people.csv against the bag's Person messages
+/// (scored on the scans they annotate), printed and written to DIR/people_metrics.json.
+int scorePeopleBag(const po::variables_map& vm) {
+#ifdef DYNAMAP_HAVE_ROSBAG
+  const std::string bag = vm["people-bag"].as<std::string>(), result = vm["result"].as<std::string>();
+  const fs::path people = fs::path(result) / "people.csv", poses = fs::path(result) / "poses.txt";
+  for (const fs::path& f : {people, poses}) {
+    if (!fs::exists(f)) throw InputError(f.string() + ": missing (map the bag into " + result + " first)");
+  }
+  const BagPeopleTruth truth = bagPeopleTruth(bag, bagOptions(vm), vm["person-topic"].as<std::string>(),
+                                              readPoses(poses.string()));
+  const MotScores m = evaluateClearMot(truth.rows, readPeople(people.string()));
+  std::cout << "dynamap eval: " << result << " against " << bag << " (" << truth.messages
+            << " annotations, " << truth.unplaced << " on scans without a pose)\n"
+            << "  people (CLEAR MOT, gate 0.75 m)\n  MOTA " << num(m.mota, 3, "n/a") << "   MOTP "
+            << num(m.motp_m, 3, "n/a") << " m   matches " << m.matches << ", misses " << m.misses
+            << ", false positives " << m.false_positives << ", identity switches " << m.id_switches
+            << "\n  " << m.people << " persons, " << m.track_ids << " track ids\n";
+  const Json j = {{"people_bag", bag},          {"annotations", truth.messages},
+                  {"unplaced", truth.unplaced},  {"mota", jnum(m.mota, 3)},
+                  {"motp_m", jnum(m.motp_m, 3)}, {"mot_person_scans", m.ground_truth},
+                  {"mot_matches", m.matches},    {"mot_misses", m.misses},
+                  {"mot_false_positives", m.false_positives}, {"mot_id_switches", m.id_switches},
+                  {"mot_track_ids", m.track_ids}};
+  writeFileAtomically(result, "people_metrics.json", [&](std::ostream& o) { o << j.dump(2) << "\n"; });
+  return kExitOk;
+#else
+  (void)vm;
+  throw std::runtime_error("this dynamap was built without ROS bag support (DYNAMAP_ROSBAG=OFF)");
+#endif
+}
+
 // ---- the command --------------------------------------------------------------------------
 
 Evaluation evaluate(const std::string& scenario_path, const std::string& truth_given,
@@ -837,7 +875,12 @@ int runEval(const Args& args) {
       "trajectory", po::value<std::string>(),
       "only score this `timestamp x y phi` file against the truth's poses (--truth), and/or\n"
       "lay out the scans of --input at it (consistency)")(
-      "input,i", po::value<std::string>(), "with --trajectory: the log the poses are of");
+      "input,i", po::value<std::string>(), "with --trajectory: the log the poses are of")(
+      "people-bag", po::value<std::string>(),
+      "score --result's people against this ROS bag's leg_tracker/Person messages")(
+      "person-topic", po::value<std::string>()->default_value("/ground_truth_people_tracks"),
+      "with --people-bag: the topic of the Person messages");
+  addBagOptions(opts, "with --people-bag, as the bag was mapped: ");
   po::positional_options_description positional;
   po::variables_map vm;
   if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
@@ -847,6 +890,11 @@ int runEval(const Args& args) {
       throw UsageError("--summary takes only result directories");
     }
     return runSummary(vm["summary"].as<std::vector<std::string>>(), std::cout);
+  }
+  if (vm.count("people-bag")) {
+    if (!vm.count("result") || vm.count("scenario") || vm.count("truth") || vm.count("trajectory"))
+      throw UsageError("--people-bag takes --result (and --scan-topic, --person-topic) only");
+    return scorePeopleBag(vm);
   }
   if (vm.count("trajectory")) {
     if ((!vm.count("truth") && !vm.count("input")) || vm.count("scenario") || vm.count("result")) {

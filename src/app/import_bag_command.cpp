@@ -31,17 +31,8 @@ po::options_description bagImportOptions() {
       ("help,h", "print this help and exit")  //
       ("out,o", po::value<std::string>(),
        "the MRPT rawlog to write (observations only, gz-compressed). Ground truth, when the bag "
-       "has it, goes to <OUT without .rawlog>.gt.txt, one 'timestamp x y phi' line per scan")  //
-      ("scan-topic", po::value<std::string>(),
-       "the sensor_msgs/LaserScan topic (default: the bag's only one)")  //
-      ("odom-topic", po::value<std::string>(),
-       "odometry from this nav_msgs/Odometry topic instead of /tf")  //
-      ("odom-frame", po::value<std::string>()->default_value("odom"),
-       "the odometry frame of /tf (odometry: odom-frame -> base-frame)")  //
-      ("base-frame", po::value<std::string>()->default_value("base_link"),
-       "the robot's frame (the laser's mount: base-frame -> the scan's frame)")  //
-      ("gt-frame", po::value<std::string>()->default_value("map"),
-       "ground truth is this frame's transform to base-frame in /tf");
+       "has it, goes to <OUT without .rawlog>.gt.txt, one 'timestamp x y phi' line per scan");
+  addBagOptions(o, "");
   return o;
 }
 

@@ -31,6 +31,8 @@ const Command kCommands[] = {
      dynamap::app::runConfig},
     {"perturb", "a log with known poses as a rawlog whose odometry drifts, and its truth",
      dynamap::app::runPerturb},
+    {"train-legs", "grow the people detector's leg classifier from ROS bags of marked legs",
+     dynamap::app::runTrainLegs},
 };
 
 void printHelp(std::ostream& out) {

@@ -124,19 +124,10 @@ po::options_description mapOptions() {
       "carmen-odometry", po::value<std::string>(),
       "CARMEN input, poses odometry: laser (each laser line's odometry fields) | odom (the "
       "ODOM lines interpolated to each scan's time); overrides [input] carmen_odometry")(
-      "scan-topic", po::value<std::string>(),
-      "ROS bag input: the sensor_msgs/LaserScan topic (default: the bag's only one)")(
-      "odom-topic", po::value<std::string>(),
-      "ROS bag input: odometry from this nav_msgs/Odometry topic instead of /tf")(
-      "odom-frame", po::value<std::string>()->default_value("odom"),
-      "ROS bag input: the odometry frame of /tf (odometry: odom-frame -> base-frame)")(
-      "base-frame", po::value<std::string>()->default_value("base_link"),
-      "ROS bag input: the robot's frame (the laser's mount: base-frame -> scan frame)")(
-      "gt-frame", po::value<std::string>()->default_value("map"),
-      "ROS bag input: ground truth is this frame's transform to base-frame in /tf")(
       "frames-every", po::value<long>(),
       "write frames/NNNNNN.png every N scans (and timelapse.mp4 with ffmpeg)")(
       "verbose,v", "print progress and a summary even when not on a terminal");
+  addBagOptions(opts, "ROS bag input: ");
   return opts;
 }
 

@@ -70,6 +70,21 @@ std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource sour
   return openRawlogSource(path, source, track);
 }
 
+// Whether the log has odometry for scan matching to start each scan from. A CARMEN laser line
+// always carries its odometry.
+bool hasOdometry(const std::string& path, const InputOptions& options) {
+  if (looksLikeRosBag(path)) {
+#ifdef DYNAMAP_HAVE_ROSBAG
+    const BagContents c = BagReader(path, options.bag).contents();
+    return c.odometry;
+#else
+    return true;  // openBag says why it cannot read it
+#endif
+  }
+  if (looksLikeCarmen(path)) return true;
+  return isSimplemapHead(fileHead(path, 256)) || peekRawlog(path).odometry;
+}
+
 }  // namespace
 
 std::unique_ptr<ScanSource> openScanSource(const std::string& path, const InputOptions& options) {
@@ -83,7 +98,10 @@ std::unique_ptr<ScanSource> openScanSource(const std::string& path, const InputO
     throw InputError(path + ": not a regular file (a fifo, device or socket); give a log file");
   }
   PoseSource source = options.poses;
-  if (source == PoseSource::ScanMatching) source = PoseSource::Odometry;  // corrected by Mapper
+  // Corrected by the Mapper. Without odometry each scan is matched from where the last one was:
+  // a LaserScan-only bag of a moving robot still gets its poses.
+  if (source == PoseSource::ScanMatching)
+    source = hasOdometry(path, options) ? PoseSource::Odometry : PoseSource::Fixed;
   const bool slam = source == PoseSource::Slam;  // odometry, turned into poses by the pipeline
   if (slam) source = PoseSource::Odometry;
   std::unique_ptr<ScanSource> inner;

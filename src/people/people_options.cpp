@@ -25,6 +25,12 @@ std::vector<Option<O>> detectorRows() {
        "two legs this close (centres) are one person"},
       {"wall_guard_cells", &O::wall_guard_cells, Range::closed(0, 5), "",
        "a hit this many cells near a cell S does not hold free is no detection"},
+      {"leg_classifier", &O::leg_classifier, {}, "",
+       "also take clusters shaped like legs (a classifier trained on real laser data) where S does not hold them occupied"},
+      {"leg_model", &O::leg_model, {}, "",
+       "the classifier: empty = the one built into dynamap, else a file written by dynamap train-legs"},
+      {"leg_probability", &O::leg_probability, Range::closed(0, 1), "",
+       "a cluster the classifier gives at least this is a leg"},
   };
 }
 
@@ -53,6 +59,10 @@ std::vector<Option<O>> trackerRows() {
        "a track slower than this is not moving"},
       {"confirm_travel", &O::confirm_travel, Range::closed(0, 100), "m",
        "...and it must go this far from where it started moving"},
+      {"shape_confirm_scans", &O::shape_confirm_scans, Range::closed(0, 1000), "",
+       "...or, moving or not, once the leg classifier saw it as two legs in this many scans (and most of its detections); 0 = never"},
+      {"max_free_share", &O::max_free_share, Range::closed(0, 1), "",
+       "while more than this share of the last scans' hits lands where S holds free space (the poses are off), only shape confirms"},
       {"tentative_miss_s", &O::tentative_miss_s, Range::openClosed(0, 60), "s",
        "a tentative track unseen this long ends"},
       {"coast_s", &O::coast_s, Range::openClosed(0, 600), "s",

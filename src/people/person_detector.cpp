@@ -9,6 +9,7 @@
 
 #include "dynamap/base/cell_key.h"
 #include "dynamap/mapping/dynamic_grid_map.h"
+#include "dynamap/people/leg_classifier.h"
 
 namespace dynamap {
 
@@ -362,11 +363,71 @@ bool staticLeft(const DynamicGridMap& map, const ScanHits& hits, double x, doubl
 
 }  // namespace
 
+namespace {
+
+// Whether most points of `s` lie on cells S holds occupied: what the map knows as standing there.
+bool onStatic(const DynamicGridMap& map, const ScanHits& hits, const Segment& s) {
+  std::size_t occupied = 0;
+  for (std::size_t i = s.begin; i < s.end; ++i) {
+    const HitPoint2& p = hits.points[i];
+    if (!(p.x >= map.getXMin() && p.x < map.getXMax() && p.y >= map.getYMin() && p.y < map.getYMax()))
+      continue;  // off the grid: S knows nothing there (and the index would not fit an int)
+    occupied += map.isStaticOccupied(map.x2idx(p.x), map.y2idx(p.y)) ? 1 : 0;
+  }
+  return 2 * occupied > s.size();
+}
+
+}  // namespace
+
+std::vector<PersonDetection> shapeDetections(const DynamicGridMap& map, const ScanHits& hits,
+                                             const PeopleOptions& o, const LegClassifier& legs) {
+  std::vector<Segment> candidates;
+  std::vector<LegFeatures> features;
+  for (const Segment& s : segmentScan(hits, kLegSegmentJump, kLegMinPoints)) {
+    const HitPoint2 &a = hits.points[s.begin], &b = hits.points[s.end - 1];
+    // Only what could be a person at all reaches the classifier (most of a scan is walls).
+    if (std::hypot(a.x - b.x, a.y - b.y) > o.max_person_width || onStatic(map, hits, s)) continue;
+    candidates.push_back(s);
+    features.push_back(legFeatures(hits, s));
+  }
+  const std::vector<double> p = legs.legProbability(features);
+  std::vector<PointCluster> clusters;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (p[i] < o.leg_probability) continue;
+    const Segment& s = candidates[i];
+    std::vector<HitPoint2> pts(hits.points.begin() + static_cast<std::ptrdiff_t>(s.begin),
+                               hits.points.begin() + static_cast<std::ptrdiff_t>(s.end));
+    clusters.push_back(summarise(pts, 0, pts.size(), hits.sensor_x, hits.sensor_y, o.max_person_width));
+  }
+  std::vector<PersonDetection> out = pairLegs(clusters, o);
+  for (PersonDetection& d : out) d.shape = true;
+  return out;
+}
+
 std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanHits& hits,
-                                          const PeopleOptions& o) {
+                                          const PeopleOptions& o, const LegClassifier* legs,
+                                          double* free_share) {
   const std::vector<HitPoint2> free = freeSpaceHits(map, hits, o.wall_guard_cells);
   std::vector<PersonDetection> out =
       pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
+  if (free_share != nullptr) {
+    *free_share = hits.points.empty() ? 0.0
+                                      : static_cast<double>(free.size()) /
+                                            static_cast<double>(hits.points.size());
+  }
+  if (legs != nullptr) {
+    const std::size_t seen = out.size();
+    for (PersonDetection d : shapeDetections(map, hits, o, *legs)) {
+      d.leg_shaped = d.legs == 2;
+      bool known = false;
+      for (std::size_t i = 0; i < seen; ++i) {
+        if (std::hypot(out[i].x - d.x, out[i].y - d.y) > 0.5 * o.leg_pair_distance) continue;
+        known = true;
+        out[i].leg_shaped = out[i].leg_shaped || d.leg_shaped;
+      }
+      if (!known) out.push_back(d);
+    }
+  }
   CellSet large;  // cells of S's walls met so far, for every detection
   BlobMarks seen(objectExtentCells(map, o));
   for (PersonDetection& d : out) {

@@ -146,6 +146,15 @@ std::vector<int> PersonTracker::associate(const std::vector<PersonDetection>& de
 
 void PersonTracker::advanceTentative(PersonTrack& tr, double t) {
   auto& st = std::get<TentativeState>(tr.state);
+  // Legs by their shape, most of the time, over shape_confirm_scans: a person whether or not
+  // they move in the map's frame, whose motion odometry drift (or a robot without poses) hides.
+  // Even beside an object: an object moving off is one cluster, never a pair of legs.
+  if (options_.shape_confirm_scans > 0 && st.shaped >= options_.shape_confirm_scans &&
+      2 * st.shaped > st.detections) {
+    confirm(tr, t);
+    return;
+  }
+  if (!mapSteady()) return;  // motion in a map that does not hold still says nothing
   if (speedOf(tr.filter) < options_.moving_speed) {  // a pause: the clock starts again
     st.moving_since_t = t;
     st.from_x = tr.filter.x();
@@ -275,6 +284,7 @@ void PersonTracker::correct(PersonTrack& tr, const PersonDetection& d, double t)
     // Seen leaving a place S held: an object moving off, unless it walks off as legs.
     if (d.static_left) tent->near_static = true;
     ++tent->detections;
+    tent->shaped += d.leg_shaped ? 1 : 0;
     if (d.legs == 2) {
       ++tent->leg_pairs;
       if (!tent->pair_seen) tent->pair_from_x = d.x, tent->pair_from_y = d.y;
@@ -373,8 +383,13 @@ bool isReported(const PersonTrack& tr) {
 }  // namespace
 
 void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanHits& hits,
-                           double t) {
+                           double t, double free_share) {
   walk_offs_.clear();
+  // A moving average over about the last five scans: one scan of a crowd is no pose error.
+  constexpr double kShareWeight = 0.2;
+  free_share_avg_ = have_share_ ? (1 - kShareWeight) * free_share_avg_ + kShareWeight * free_share
+                                : free_share;
+  have_share_ = true;
   // A place seen empty is left: whoever stood there walked off unseen.
   stood_unseen_.erase(std::remove_if(stood_unseen_.begin(), stood_unseen_.end(),
                                      [&](const StoodUnseen& p) {

@@ -118,6 +118,19 @@ Mapper::Mapper(const MapConfig& config)
   if (config.poses == PoseSource::ScanMatching) {
     matcher_ = std::make_unique<ScanMatcher>(config.scan_matching);
   }
+  const PeopleOptions& p = config.people;
+  if (p.enabled && p.leg_classifier) {
+    if (p.leg_model.empty()) {
+      legs_ = &LegClassifier::builtin();
+    } else {
+      try {
+        own_legs_ = LegClassifier::load(p.leg_model);
+      } catch (const std::exception& e) {
+        throw ConfigError(std::string("[people] leg_model: ") + e.what());
+      }
+      legs_ = &own_legs_;
+    }
+  }
 }
 
 std::string Mapper::poseSourceName(const ScanSource& source) const {
@@ -161,9 +174,10 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   // 3. People, detected against S as it was before this scan (the paper's S_{t-1}).
   ScanHits& hits = hits_;
   std::vector<PersonDetection> people;
+  double free_share = 0;
   if (config_.people.enabled) {
     scanHits(rd, result.pose, hits);
-    people = detectPeople(map_, hits, config_.people);
+    people = detectPeople(map_, hits, config_.people, legs_, &free_share);
   }
   map_.insertRange(rd, result.pose);  // 4. S and D
   const ScanInsertStats& st = map_.lastInsertStats();
@@ -178,7 +192,7 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   // 5. People tracked; where they are, no object is confirmed (exclusion_radius > 0).
   const std::size_t events_before = tracker_.events().size();
   if (config_.people.enabled) {
-    people_.update(people, hits, rec.t);
+    people_.update(people, hits, rec.t, free_share);
     std::vector<ObjectTracker::KeepOut> keep_out;
     for (const auto& [x, y] : people_.personPositions()) {
       keep_out.push_back({x, y, config_.people.exclusion_radius});

@@ -20,6 +20,12 @@ struct PeopleOptions {
   double max_person_width = 0.8;  ///< [m] wider clusters are not a person; [max_leg_width, 5]
   double leg_pair_distance = 0.8;  ///< [m] two legs whose centres are this close are one person; [0, 2]
   int wall_guard_cells = 1;       ///< a hit with a cell S does not hold free this near is no detection; [0, 5]
+  /// Legs are also recognised by their shape in the scan itself (leg_classifier.h), wherever S
+  /// does not hold the cluster occupied: people in space S has not seen free yet, and on a
+  /// robot whose poses drift. Such a detection starts a track like any other.
+  bool leg_classifier = true;
+  std::string leg_model;          ///< "" = the model built into dynamap, else a file of dynamap train-legs
+  double leg_probability = 0.5;   ///< a cluster the classifier gives at least this is a leg; [0, 1]
   double gate = 0.6;              ///< [m] a detection farther than this from a track's prediction never updates it; (0, 5]
   double accel_std = 1.0;         ///< [m/s^2] the constant-velocity model's process noise; (0, 100]
   double measurement_std = 0.1;   ///< [m] a detection's position noise; (0, 1]
@@ -43,6 +49,13 @@ struct PeopleOptions {
   int static_left_cells = 3;  ///< see static_left_margin; [1, 1000]
   double moving_speed = 0.25;     ///< [m/s] slower than this a track is not moving; [0, 10]
   double confirm_travel = 0.5;    ///< [m] ...and has gone this far from where it appeared; [0, 100]
+  /// A new track is a person, moving or not, once the leg classifier has seen it as a pair of
+  /// legs in this many scans and in more than half of its detections; 0 = never; [0, 1000]
+  int shape_confirm_scans = 10;
+  /// While more than this share of the scans' hits (averaged over the last few) lands in space
+  /// S holds free, the map does not hold still (poses off, or a moving robot mapped with fixed
+  /// poses): only shape_confirm_scans confirms; [0, 1]
+  double max_free_share = 0.5;
   double tentative_miss_s = 0.6;  ///< [s] a tentative track unseen this long ends; (0, 60]
   double coast_s = 4.0;           ///< [s] a person walking out of view is lost after this long; (0, 600]
   double hold_radius = 0.15;      ///< [m] a beam ending this near a lost person holds them; [0, 2]

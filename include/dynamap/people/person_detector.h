@@ -18,6 +18,7 @@
 namespace dynamap {
 
 class DynamicGridMap;
+class LegClassifier;
 
 /// One beam's end point in the map frame.
 struct HitPoint2 {
@@ -79,6 +80,11 @@ struct PersonDetection {
   /// wall (one body with the wall in S) from the wall, which is never seen through. Left false
   /// when near_static, which holds a track to confirm_static_s already.
   bool static_left = false;
+  /// Found by the leg classifier alone (no hit of it in S's free space): its legs' shape.
+  bool shape = false;
+  /// The classifier sees a pair of legs here (this detection, or one of shapeDetections within
+  /// leg_pair_distance / 2 of it): a person by their shape, whether or not they move.
+  bool leg_shaped = false;
 };
 /// Legs (clusters up to max_leg_width) are paired greedily, nearest pair first, when their
 /// centres are within leg_pair_distance: the person is at the pair's midpoint. An unpaired leg
@@ -86,8 +92,21 @@ struct PersonDetection {
 std::vector<PersonDetection> pairLegs(const std::vector<PointCluster>& clusters,
                                       const PeopleOptions& options);
 
-/// The whole detection step: freeSpaceHits, clusterPoints, pairLegs, and near_static.
+/// The clusters of `hits` that `legs` takes for legs (leg_probability) and S does not hold
+/// occupied (most of their points on cells S holds occupied: a wall, a chair S knows), paired
+/// as pairLegs pairs them, each marked `shape`.
+std::vector<PersonDetection> shapeDetections(const DynamicGridMap& map, const ScanHits& hits,
+                                             const PeopleOptions& options, const LegClassifier& legs);
+
+/// The whole detection step: freeSpaceHits, clusterPoints, pairLegs, and near_static; with
+/// `legs`, also the shapeDetections farther than leg_pair_distance / 2 from every one of those
+/// (a pair of legs among the nearer ones makes the detection they are near leg_shaped).
+/// `free_share`, when given, receives the share of the scan's hits in S's free space (0 for a
+/// scan without hits): a few percent where the map holds still, most of them where the poses
+/// are wrong (drift, or a moving robot mapped with fixed poses).
 std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanHits& hits,
-                                          const PeopleOptions& options);
+                                          const PeopleOptions& options,
+                                          const LegClassifier* legs = nullptr,
+                                          double* free_share = nullptr);
 
 }  // namespace dynamap

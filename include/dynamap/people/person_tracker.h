@@ -65,6 +65,7 @@ struct TentativeState {
   double born_x = 0, born_y = 0;  ///< ...there
   int detections = 0;             ///< detections so far
   int leg_pairs = 0;              ///< ...of which were a pair of legs
+  int shaped = 0;                 ///< ...of which the leg classifier saw as a pair of legs
   /// Where it was seen as a pair of legs first since it has been moving, and last: a pair that
   /// moves, not a track jumping between two legs (or two small objects) seen one at a time.
   bool pair_seen = false;
@@ -139,8 +140,14 @@ class PersonTracker {
  public:
   explicit PersonTracker(const PeopleOptions& options = {});
 
-  /// The per-scan step with this scan's detections and its hits (for "is the place seen").
-  void update(const std::vector<PersonDetection>& detections, const ScanHits& hits, double t);
+  /// The per-scan step with this scan's detections and its hits (for "is the place seen"), and
+  /// the share of its hits in S's free space (detectPeople): while that share, averaged over
+  /// the last scans, is above max_free_share the map does not hold still, motion in it means
+  /// nothing, and only the leg classifier's shape confirms a person.
+  void update(const std::vector<PersonDetection>& detections, const ScanHits& hits, double t,
+              double free_share = 0);
+  /// Whether the map held still at the last update (see update).
+  bool mapSteady() const { return free_share_avg_ <= options_.max_free_share; }
 
   /// The people to report for the last scan: confirmed tracks and held (stopped) people, by id.
   std::vector<PersonRow> reported() const;
@@ -219,6 +226,8 @@ class PersonTracker {
   std::size_t trail_points_ = 0;
   bool have_t_ = false;
   double last_t_ = 0;
+  double free_share_avg_ = 0;  // of the scans so far, the latest weighing most
+  bool have_share_ = false;
   int next_key_ = 1;
   int next_id_ = 1;
 };

@@ -16,6 +16,7 @@
 #include "dynamap/localization/slam.h"
 #include "dynamap/mapping/dynamic_grid_map.h"
 #include "dynamap/objects/object_tracker.h"
+#include "dynamap/people/leg_classifier.h"
 #include "dynamap/people/person_tracker.h"
 #include "dynamap/pipeline/people_objects.h"
 #include "dynamap/pipeline/robot_path.h"
@@ -108,6 +109,8 @@ class Mapper {
   DynamicGridMap map_;
   ObjectTracker tracker_;
   PersonTracker people_;
+  LegClassifier own_legs_;               // a model of [people] leg_model
+  const LegClassifier* legs_ = nullptr;  // the one in use; null: no leg classifier
   PeopleObjects people_objects_;
   RobotPath path_;
   RangeData range_;  // this scan's geometry; its buffers kept from scan to scan
