@@ -1,6 +1,7 @@
 # dynamap — top-level wrapper around CMake.
 #
-#   make demo    install what is missing, build, map the bundled rawlog, say where the pictures are
+#   make demo    install what is missing, build only the dynamap program, map the bundled rawlog,
+#                say where the pictures are
 #   make test    install what is missing, build, run every test (ctest)
 #   make bench   install, build, time dynamap against plain MRPT grid insertion, then the fixed
 #                cost of a run and the whole odometry-only (slam) run
@@ -82,7 +83,10 @@ build: configure
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
-demo: build
+# Only what the demo runs: the dynamap program (and the ICP module it loads), not the
+# tests and benchmarks, which take most of a full build.
+demo: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target dynamap
 	$(DYNAMAP) map --config config/default.ini --input $(DEMO_INPUT) --out $(DEMO_OUT)
 	@echo "dynamap: done; pictures in $(DEMO_OUT)/: static.png (the static map S), dynamic.png (D), overlay.png"
 

@@ -62,7 +62,7 @@ ImportArgs parseImportArgs(const Args& args, bool& help) {
       "Writes, per laser line: CObservationOdometry (label ODOMETRY, when known; with\n"
       "--carmen-odometry odom per ODOM line instead), CObservation2DRangeScan (LASER),\n"
       "CObservationRobotPose (GT, the line's pose). Other lines are skipped and counted.\n"
-      "See docs/carmen.md.\n",
+      "See docs/inputs.md (CARMEN logs).\n",
       "CARMEN log", vm, a.input, a.output);
   if (help) return {};
   if (vm.count("fov")) {

@@ -1,5 +1,5 @@
 // MapConfig: the option tables are the one declaration of every key; config/default.ini, the
-// README and a run's config.ini must agree with them key for key.
+// key table of docs/configuration.md and a run's config.ini must agree with them key for key.
 
 #include "dynamap/pipeline/mapper.h"
 
@@ -47,11 +47,11 @@ TEST(MapConfig, DefaultIniHoldsExactlyTheDeclaredDefaults) {
   }
 }
 
-TEST(MapConfig, ReadmeHoldsTheTableOfEveryKeyAsTheTablesDeclareThem) {
-  const std::string readme = readFile(DYNAMAP_SOURCE_DIR "/README.md");
+TEST(MapConfig, ConfigurationPageHoldsTheTableOfEveryKeyAsTheTablesDeclareThem) {
+  const std::string page = readFile(DYNAMAP_SOURCE_DIR "/docs/configuration.md");
   const std::string table = optionsMarkdown(MapConfig::describe());
-  EXPECT_NE(readme.find(table), std::string::npos)
-      << "README's table of keys is not `dynamap config --markdown`'s:\n"
+  EXPECT_NE(page.find(table), std::string::npos)
+      << "docs/configuration.md's table of keys is not `dynamap config --markdown`'s:\n"
       << table;
   for (const OptionDoc& d : MapConfig::describe()) {
     EXPECT_NE(table.find("`" + d.key + "`"), std::string::npos) << d.key;

@@ -5,7 +5,7 @@
 // Read here: FLASER/RLASER (old laser format), ROBOTLASER1 (new laser format), ODOM, and the PARAM
 // lines that give a laser's field of view, angular step, maximum range and mounting offset. Every
 // other line (SYNC, NEFF, TRUEPOS, sonar, other PARAMs, '#' comments, blank lines) is skipped and
-// counted. docs/carmen.md states the format as read and every choice made.
+// counted. docs/inputs.md (CARMEN logs) states the format as read and every choice made.
 //
 // Time: a message's time is its ipc_timestamp (the sender's time of the data); the
 // logger_timestamp is only when the logger received it. Beam angles follow CARMEN/GMapping: beam i
