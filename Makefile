@@ -13,6 +13,8 @@
 #                paper's Table 3 (docs/evaluation.md)
 #   make eval-heldout  the same for the held-out worlds of config/heldout/ (simulated into
 #                out/heldout/ first): worlds written to check the defaults, never to set them
+#   make eval-real  the same on real scans: cylinders added to the Radish CARMEN logs of
+#                $(DATASETS)/carmen/ when present (dynamap perturb --add-objects), 3 seeds each
 #   make test-asan  build into build-asan/ with AddressSanitizer + UndefinedBehaviorSanitizer and
 #                run every test there
 #   make fuzz    install clang, build the libFuzzer targets into build-fuzz/ and run each for
@@ -56,7 +58,7 @@ BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corrid
 # corridors_odom's ground truth made to drift.
 SLAM_BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors_odom/corridors_odom.rawlog)
 
-.PHONY: legs eval-people all deps configure build test demo bench format clean scenarios eval eval-heldout test-asan fuzz \
+.PHONY: legs eval-people all deps configure build test demo bench format clean scenarios eval eval-heldout eval-real test-asan fuzz \
   fuzz-deps bench-long compare-icp-slam
 
 all: build
@@ -166,6 +168,24 @@ eval-heldout: build
 	  echo; \
 	done
 	@$(DYNAMAP) eval --summary $(addprefix out/heldout/,$(HELDOUT_SCENARIOS))
+
+# Table 3 on real scans: cylinders added to the Radish logs under $(DATASETS)/carmen/ (when
+# present) by perturb --add-objects, each log mapped and scored into out/real/<log>-<seed>/.
+REAL_LOGS := intel freiburg-079 freiburg-campus
+REAL_SEEDS := 1 2 3
+eval-real: build
+	@dirs=""; for l in $(REAL_LOGS); do \
+	  log=$(DATASETS)/carmen/$$l-corrected.log.gz; \
+	  if [ ! -f $$log ]; then echo "dynamap: $$log not found, skipped"; continue; fi; \
+	  for s in $(REAL_SEEDS); do o=out/real/$$l-$$s; \
+	    $(DYNAMAP) perturb --input $$log --out $$o/truth --name $$l \
+	      --add-objects objects=4,moves=10,seed=$$s >/dev/null || exit 1; \
+	    $(DYNAMAP) map --config config/default.ini --input $$o/truth/$$l.rawlog --out $$o \
+	      >/dev/null || exit 1; \
+	    $(DYNAMAP) eval --truth $$o/truth/$$l --result $$o >/dev/null || exit 1; \
+	    dirs="$$dirs $$o"; \
+	  done; \
+	done; [ -z "$$dirs" ] || $(DYNAMAP) eval --summary $$dirs
 
 # The whole suite under ASan + UBSan. MRPT is not instrumented: .ci/lsan.supp is where leaks
 # inside MRPT's own libraries would be suppressed (never ours).

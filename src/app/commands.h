@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+namespace dynamap {
+struct MapConfig;
+}
+
 namespace dynamap::app {
 
 /// Exit statuses, documented in the README.
@@ -25,6 +29,10 @@ int runEval(const Args& args);
 int runConfig(const Args& args);
 int runPerturb(const Args& args);
 int runTrainLegs(const Args& args);
+/// perturb --add-objects (perturb_objects.cpp): cylinders added to the scans of `input`, the
+/// edited log and its truth written into `dir` as `name`.* (name empty: the input's stem).
+int runAddObjects(const std::string& input, const std::string& dir, const std::string& spec,
+                  std::string name, const MapConfig& config);
 
 /// Thrown for a bad command line; main() prints it with a pointer to --help.
 struct UsageError : std::runtime_error {

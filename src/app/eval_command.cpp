@@ -40,7 +40,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const char* const kUsage =
-    "usage: dynamap eval --scenario FILE --truth PREFIX --result DIR [--config FILE]\n"
+    "usage: dynamap eval [--scenario FILE] --truth PREFIX --result DIR [--config FILE]\n"
     "       dynamap eval --summary DIR...\n"
     "       dynamap eval --truth PREFIX --trajectory FILE\n"
     "       dynamap eval --input LOG --trajectory FILE [--truth PREFIX]\n"
@@ -52,6 +52,8 @@ const char* const kUsage =
     "PREFIX is the simulator's file prefix (rawlogs/arena/arena) or its directory\n"
     "(rawlogs/arena). When DIR has no summary.json the mapper runs first (ground-truth\n"
     "poses, --config). Prints a table and writes DIR/report.md and DIR/metrics.json.\n"
+    "Without --scenario (real scans with objects added by `dynamap perturb --add-objects`) the\n"
+    "walls are unknown: the object figures are scored, the cell figures know the objects only.\n"
     "--summary prints one table of several evaluated results beside the paper's Table 3.\n"
     "The poses the result was mapped at (DIR/poses.txt) and the log's raw odometry are scored\n"
     "against the truth's poses (PREFIX.gt.txt): absolute trajectory error, RMSE of position and\n"
@@ -213,6 +215,17 @@ void keepTableRows(const fs::path& objects_csv, std::vector<TrackRow>& rows,
   }
 }
 
+/// perturb --add-objects' NAME.own.csv: the unedited log's object rows.
+std::vector<OwnRow> readOwn(const std::string& path) {
+  CsvReader csv(path, "scan_index,cx,cy");
+  std::vector<OwnRow> rows;
+  for (std::vector<std::string> f; csv.next(f);) {
+    rows.push_back({static_cast<std::size_t>(csv.integer(f[0], "scan_index")),
+                    csv.number(f[1], "cx"), csv.number(f[2], "cy")});
+  }
+  return rows;
+}
+
 std::vector<PersonTrackRow> readPeople(const std::string& path) {
   CsvReader csv(path, "scan_index,t,person_id,x,y,vx,vy");
   std::vector<PersonTrackRow> rows;
@@ -321,6 +334,8 @@ std::vector<float> plainMrptOccupancy(const std::string& rawlog, const GridGeome
 struct Evaluation {
   std::string scenario, truth, result;
   bool have_tracks = false;
+  bool real_scans = false;  // no scenario: objects added to a real log
+  bool have_own = false;    // real scans: the unedited log's own object rows (PREFIX.own.csv)
   std::size_t moves = 0;
   ObjectScores objects;
   std::size_t observed = 0;
@@ -417,6 +432,8 @@ void printTable(std::ostream& o, const Evaluation& ev) {
   line("not detected", ob.not_detected, kPaperNotDetected);
   line("static detected as objects", ob.static_as_objects, kPaperStatic);
   line("people detected as objects", ob.people_as_objects, nullptr);  // not in the paper
+  if (ev.have_own) line("the log's own (unlabeled)", ob.log_own_objects, nullptr);
+  if (ev.real_scans) line("left where it stood, unseen", ob.left_behind_objects, nullptr);
   line("size estimation errors", ob.size_errors, kPaperSize);
   o << "  latency median / max            " << num(ob.latency.median_s, 2, "n/a") << " / "
     << num(ob.latency.max_s, 2, "n/a") << " s  (" << num(ob.latency.median_scans, 1, "n/a") << " / "
@@ -558,6 +575,8 @@ void writeMetricsJson(std::ostream& o, const Evaluation& ev) {
             {"result", ev.result},
             {"tracks_present", ev.have_tracks}};
   j.update(tableFiguresJson(ev));
+  if (ev.have_own) j["log_own_objects"] = ev.objects.log_own_objects;
+  if (ev.real_scans) j["left_behind_objects"] = ev.objects.left_behind_objects;
   j.update(peopleAndPosesJson(ev));
   j["cells"] = {{"observed", ev.observed},
                 {"object_threshold", jnum(ev.object_threshold, 3)},
@@ -595,7 +614,11 @@ void writeReport(std::ostream& o, const Evaluation& ev) {
       << (a.matches == 0 ? std::string("–")
                          : (a.body.kind == sim::BodyKind::Object ? "object " : "person ") +
                                std::to_string(a.body.id))
-      << " | " << a.matches << " | " << a.far_rows << (a.static_object ? " (static)" : "")
+      << " | " << a.matches << " | " << a.far_rows
+      << (a.static_object ? " (static)"
+          : a.log_own     ? " (the log's own)"
+          : a.left_behind ? " (left where it stood)"
+                          : "")
       << " |\n";
   }
   o << "\n## Pictures\n\n";
@@ -755,14 +778,24 @@ int scorePeopleBag(const po::variables_map& vm) {
 
 Evaluation evaluate(const std::string& scenario_path, const std::string& truth_given,
                     const std::string& result, const MapConfig& config) {
-  const sim::Scenario scenario = sim::loadScenario(scenario_path);
   const std::string prefix = truthPrefix(truth_given);
+  // No scenario: a real log with added objects (perturb --add-objects), whose walls nobody knows.
+  sim::Scenario scenario;
+  if (!scenario_path.empty()) {
+    scenario = sim::loadScenario(scenario_path);
+  } else {
+    scenario.name = fs::path(prefix).filename().string();
+  }
   const std::string rawlog = prefix + ".rawlog";
   const auto rows = readTruthRows(prefix + ".objects.csv");
   const auto moves = readMoves(prefix + ".moves.csv");
 
   Evaluation ev;
   ev.scenario = scenario.name;
+  if (scenario_path.empty()) {
+    ev.notes.push_back("no scenario: the walls are unknown, so the cell figures know the added "
+                       "objects only (SA, AA, HA undefined)");
+  }
   ev.truth = prefix;
   ev.result = result;
   ev.moves = moves.size();
@@ -783,6 +816,12 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
   } catch (const std::invalid_argument& e) {
     throw InputError(tracks.string() + ": " + e.what());
   }
+  // Real scans (no scenario): the log's own changes and objects left where the robot never
+  // looked again are no static parts; the simulator's robots see every place again.
+  ev.real_scans = scenario_path.empty();
+  ev.have_own = ev.real_scans && fs::exists(prefix + ".own.csv");
+  if (ev.have_own) setAsideLogOwn(ev.objects, track_rows, readOwn(prefix + ".own.csv"));
+  if (ev.real_scans) setAsideLeftBehind(ev.objects, track_rows, rows);
   evaluateCells(scenario, rows, moves, rawlog, config, ev);
   const fs::path people = fs::path(result) / "people.csv";
   ev.have_people = fs::exists(people);
@@ -906,7 +945,7 @@ int runEval(const Args& args) {
     return kExitOk;
   }
   if (vm.count("input")) throw UsageError("--input goes with --trajectory");
-  for (const char* k : {"scenario", "truth", "result"}) {
+  for (const char* k : {"truth", "result"}) {
     if (!vm.count(k)) throw UsageError(std::string("--") + k + " is required");
   }
   const std::string result = vm["result"].as<std::string>();
@@ -914,7 +953,8 @@ int runEval(const Args& args) {
   if (vm.count("config"))
     config = MapConfig::load(IniFile::fromFile(vm["config"].as<std::string>()));
   const Evaluation ev =
-      evaluate(vm["scenario"].as<std::string>(), vm["truth"].as<std::string>(), result, config);
+      evaluate(vm.count("scenario") ? vm["scenario"].as<std::string>() : std::string(),
+               vm["truth"].as<std::string>(), result, config);
   printTable(std::cout, ev);
   writeFileAtomically(result, "metrics.json", [&](std::ostream& o) { writeMetricsJson(o, ev); });
   writeFileAtomically(result, "report.md", [&](std::ostream& o) { writeReport(o, ev); });

@@ -14,7 +14,9 @@
 #include "cli.h"
 #include "commands.h"
 #include "dynamap/input/open_source.h"
+#include "dynamap/base/ini.h"
 #include "dynamap/outputs/map_outputs.h"
+#include "dynamap/pipeline/mapper.h"
 #include "dynamap/sim/random.h"
 
 namespace dynamap::app {
@@ -22,12 +24,23 @@ namespace {
 
 const char* const kUsage =
     "usage: dynamap perturb --input LOG --out DIR [--seed N] [--trans-noise F] [--rot-noise F]\n"
-    "                       [--rot-per-m F] [--heading-bias F]\n\n"
+    "                       [--rot-per-m F] [--heading-bias F]\n"
+    "       dynamap perturb --input LOG --out DIR --add-objects SPEC [--name NAME] [--config FILE]\n\n"
     "Reads a log with known poses (ground truth or a simplemap; a CARMEN corrected log's poses)\n"
     "and writes DIR/odometry.rawlog (gz): each scan with a CObservationOdometry whose increments\n"
     "are the true ones with noise (translation sd trans-noise x distance, heading sd rot-noise x\n"
     "turn + rot-per-m x distance, plus heading-bias x distance), and DIR/gt.txt: the true pose of\n"
-    "each scan (timestamp x y phi). The same input and seed give the same bytes.";
+    "each scan (timestamp x y phi). The same input and seed give the same bytes.\n\n"
+    "With --add-objects, maps LOG first (S, with --config), then adds cylinders to its scans at\n"
+    "places S holds free, away from walls and from the robot's path, and moves them while the\n"
+    "robot looks elsewhere (jumps) or in view (glides); every beam that meets a cylinder before\n"
+    "its own return is shortened to it. Writes DIR/NAME.rawlog (known poses) and the truth in the\n"
+    "simulator's format (NAME.gt.txt, NAME.objects.csv, NAME.moves.csv), scored by\n"
+    "`dynamap eval --truth DIR/NAME --result OUT`, NAME.own.csv: where the unedited log's run\n"
+    "reported objects (the log's own changes), and NAME.added.txt: the moves dropped and why.\n"
+    "SPEC is key=value,...: objects (4), moves (10), seed (1), sizes (0.2-0.6 m), glide (0 s:\n"
+    "jumps), wall (0.15 m), path (0.5 m), seen (10 scans), beams (3 per scan), window (5 scans\n"
+    "in eval's detection window).";
 
 struct Noise {
   double trans = 0.03, rot = 0.03, rot_per_m = 0.005, heading_bias = 0.002;
@@ -49,9 +62,28 @@ double nonNegative(const po::variables_map& vm, const char* key, double fallback
   return v;
 }
 
+void onlyWithAddObjects(const po::variables_map& vm) {
+  for (const char* k : {"name", "config"}) {
+    if (vm.count(k)) throw UsageError(std::string("--") + k + " goes with --add-objects");
+  }
+}
+
+/// --add-objects: none of the odometry noise options, the seed in the spec.
+int addObjects(const po::variables_map& vm) {
+  for (const char* k : {"trans-noise", "rot-noise", "rot-per-m", "heading-bias"}) {
+    if (vm.count(k)) throw UsageError(std::string("--") + k + " does not go with --add-objects");
+  }
+  if (!vm["seed"].defaulted()) throw UsageError("--seed: with --add-objects, give seed= in SPEC");
+  MapConfig config;
+  if (vm.count("config")) config = MapConfig::load(IniFile::fromFile(vm["config"].as<std::string>()));
+  return runAddObjects(vm["input"].as<std::string>(), vm["out"].as<std::string>(),
+                       vm["add-objects"].as<std::string>(),
+                       vm.count("name") ? vm["name"].as<std::string>() : "", config);
+}
+
 }  // namespace
 
-int runPerturb(const Args& args) {
+static po::options_description perturbOptions() {
   po::options_description opts("options");
   opts.add_options()("help,h", "explain the options")(
       "input,i", po::value<std::string>()->required(), "a log with known poses")(
@@ -60,10 +92,20 @@ int runPerturb(const Args& args) {
       "trans-noise", po::value<double>(), "translation sd per metre (0.03)")(
       "rot-noise", po::value<double>(), "heading sd per radian turned (0.03)")(
       "rot-per-m", po::value<double>(), "heading sd per metre (0.005)")(
-      "heading-bias", po::value<double>(), "heading bias per metre, radians (0.002)");
+      "heading-bias", po::value<double>(), "heading bias per metre, radians (0.002)")(
+      "add-objects", po::value<std::string>(), "add moving cylinders to the scans (see above)")(
+      "name", po::value<std::string>(), "with --add-objects: the output files' name")(
+      "config,c", po::value<std::string>(), "with --add-objects: the mapper's configuration");
+  return opts;
+}
+
+int runPerturb(const Args& args) {
+  const po::options_description opts = perturbOptions();
   po::positional_options_description positional;
   po::variables_map vm;
   if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
+  if (vm.count("add-objects")) return addObjects(vm);
+  onlyWithAddObjects(vm);
   Noise noise;
   noise.trans = nonNegative(vm, "trans-noise", noise.trans);
   noise.rot = nonNegative(vm, "rot-noise", noise.rot);

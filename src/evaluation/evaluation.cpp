@@ -116,7 +116,10 @@ void scoreWindow(const ByScan& g, const TruthMove& m, const std::map<int, BodyKe
   const BodyKey object{sim::BodyKind::Object, m.object_id};
   for (auto it = g.bodies.find(r.visible_scan); it != g.bodies.end(); ++it) {
     const double t = g.t.at(it->first);
-    if (t > r.visible_t + options.detect_window_s) break;
+    if (t > r.visible_t + options.detect_window_s &&
+        it->first >= r.visible_scan + options.detect_window_scans) {
+      break;
+    }
     const TruthRow* b = findBody(it->second, object);
     if (!b || sim::distance({b->x, b->y}, m.to) > options.place_tolerance_m) continue;
     const auto tr = g.tracks.find(it->first);
@@ -677,6 +680,63 @@ AlignedTrajectoryError alignedTrajectoryError(const std::vector<TimedPose>& esti
   relativeError(est, gt, 1.0, e.rel_1m_xy_m, e.rel_1m_phi_rad);
   relativeError(est, gt, 10.0, e.rel_10m_xy_m, e.rel_10m_phi_rad);
   return e;
+}
+
+void setAsideLogOwn(ObjectScores& scores, const std::vector<TrackRow>& tracks,
+                    const std::vector<OwnRow>& own, double radius) {
+  std::map<std::size_t, std::vector<const OwnRow*>> by_scan;
+  for (const OwnRow& o : own) by_scan[o.scan_index].push_back(&o);
+  std::map<int, std::size_t> near_own;  // per tracker id, rows near an own row
+  for (const TrackRow& r : tracks) {
+    const auto it = by_scan.find(r.scan_index);
+    if (it == by_scan.end()) continue;
+    for (const OwnRow* o : it->second) {
+      if (std::hypot(r.cx - o->x, r.cy - o->y) <= radius) {
+        ++near_own[r.object_id];
+        break;
+      }
+    }
+  }
+  for (IdAssignment& a : scores.ids) {
+    if (!a.static_object || 2 * near_own[a.track_id] <= a.rows) continue;
+    a.static_object = false;
+    a.log_own = true;
+    --scores.static_as_objects;
+    ++scores.log_own_objects;
+  }
+}
+
+void setAsideLeftBehind(ObjectScores& scores, const std::vector<TrackRow>& tracks,
+                        const std::vector<TruthRow>& rows, const EvalOptions& options) {
+  struct Place {
+    double x, y, radius;
+    std::size_t first_scan;
+  };
+  std::vector<Place> places;
+  std::map<int, const TruthRow*> last;  // per object, its row at its latest place
+  for (const TruthRow& r : rows) {
+    if (r.kind != sim::BodyKind::Object) continue;
+    const TruthRow*& l = last[r.id];
+    if (l != nullptr && std::hypot(r.x - l->x, r.y - l->y) <= options.place_tolerance_m) continue;
+    l = &r;
+    places.push_back({r.x, r.y, std::max(options.min_match_radius_m, r.diameter), r.scan_index});
+  }
+  std::map<int, std::size_t> near_place;  // per tracker id, rows where an object had stood
+  for (const TrackRow& t : tracks) {
+    for (const Place& p : places) {
+      if (p.first_scan <= t.scan_index && std::hypot(t.cx - p.x, t.cy - p.y) <= p.radius) {
+        ++near_place[t.object_id];
+        break;
+      }
+    }
+  }
+  for (IdAssignment& a : scores.ids) {
+    if (!a.static_object || 2 * near_place[a.track_id] <= a.rows) continue;
+    a.static_object = false;
+    a.left_behind = true;
+    --scores.static_as_objects;
+    ++scores.left_behind_objects;
+  }
 }
 
 }  // namespace dynamap

@@ -104,9 +104,11 @@ TEST(EvalObjects, MissIsNotDetected) {
   std::vector<TrackRow> tracks;
   addStill(tracks, 20);
   for (std::size_t k = 0; k < 3; ++k) tracks.push_back(track(k, 10, 0.0, 0.0));
-  // Found only after the 10 s window (visible at 3, window to 13).
+  // Found only after the 10 s window (visible at 3, window to 13; at 1 Hz, 10 scans).
   for (std::size_t k = 14; k < 20; ++k) tracks.push_back(track(k, 10, 5.0, 0.0));
-  const ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  EvalOptions ten_scans;
+  ten_scans.detect_window_scans = 10;
+  const ObjectScores s = evaluateObjects(t.rows, t.moves, tracks, ten_scans);
   EXPECT_FALSE(s.moves[0].matched);
   EXPECT_FALSE(s.moves[0].correct);
   EXPECT_EQ(s.not_detected, 1u);
@@ -681,6 +683,50 @@ TEST(EvalConsistency, PosesAtNoScanTimeAndMisusedFlagsAreErrors) {
   std::ofstream(dir + "/empty.txt") << "% no poses\n";
   EXPECT_EQ(test::run(exe + " --input " + log + " --trajectory " + dir + "/empty.txt", &out), 1);
   EXPECT_NE(out.find("no pose (expected"), std::string::npos) << out;
+}
+
+// Real scans: an object left where it stood (the robot never looked back) and the log's own
+// change are set aside; a report where nothing ever stood stays a static part.
+TEST(EvalObjects, RealScansSetAsideWhatIsNoStaticPart) {
+  const Truth t = twoObjects();
+  std::vector<TrackRow> tracks;
+  addStill(tracks, 5);
+  for (std::size_t k = 0; k < 20; ++k) {
+    tracks.push_back(track(k, 7, 0.02, 0.0));  // object 1's first place, kept after it left
+    tracks.push_back(track(k, 8, 9.0, 9.0));   // something of the log's own
+    tracks.push_back(track(k, 9, -7.0, 2.0));  // nothing ever stood there
+  }
+  ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  ASSERT_EQ(s.static_as_objects, 3u);
+  setAsideLogOwn(s, tracks, {{3, 9.1, 9.0}, {4, 9.0, 9.2}, {5, 9.0, 9.0}, {6, 9, 9}, {7, 9, 9},
+                             {8, 9, 9}, {9, 9, 9}, {10, 9, 9}, {11, 9, 9}, {12, 9, 9}, {13, 9, 9}});
+  EXPECT_EQ(s.log_own_objects, 1u);
+  EXPECT_EQ(s.static_as_objects, 2u);
+  setAsideLeftBehind(s, tracks, t.rows);
+  EXPECT_EQ(s.left_behind_objects, 1u);
+  EXPECT_EQ(s.static_as_objects, 1u);
+  for (const IdAssignment& a : s.ids) {
+    EXPECT_EQ(a.static_object, a.track_id == 9) << a.track_id;
+    EXPECT_EQ(a.log_own, a.track_id == 8) << a.track_id;
+    EXPECT_EQ(a.left_behind, a.track_id == 7) << a.track_id;
+  }
+}
+
+// A log whose scans come seconds apart: the detection window is 50 scans, not 10 s.
+TEST(EvalObjects, TheWindowIsFiftyScansOnASlowLog) {
+  Truth t;
+  for (std::size_t k = 0; k < 80; ++k) {
+    const double time = 3.0 * static_cast<double>(k);
+    t.rows.push_back({k, time, BodyKind::Object, 1, time < 30 ? 0.0 : 5.0, 0.0, 0.3, 10});
+  }
+  t.moves.push_back({1, 1, 29.0, 29.0, {0, 0}, {5, 0}});
+  std::vector<TrackRow> tracks;
+  for (std::size_t k = 0; k < 80; ++k) tracks.push_back(track(k, 4, k < 10 ? 0.0 : k < 16 ? -3 : 5, 0));
+  ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  ASSERT_EQ(s.moves.size(), 1u);
+  EXPECT_TRUE(s.moves[0].correct);  // found 6 scans (18 s) after it was first seen
+  EXPECT_EQ(s.moves[0].latency_scans, 6u);
+  EXPECT_DOUBLE_EQ(s.moves[0].latency_s, 18.0);
 }
 
 }  // namespace

@@ -52,7 +52,10 @@ struct TrackRow {
 struct EvalOptions {
   double min_match_radius_m = 0.25;  ///< a row matches a body within max(this, diameter)
   int min_visible_hits = 3;          ///< beams on the object at its new place to call it visible
-  double detect_window_s = 10;       ///< detection must come this soon after visibility
+  double detect_window_s = 10;       ///< detection must come this soon after visibility...
+  /// ...or within this many scans of it, whichever is later: 10 s at the simulator's 5 Hz, and
+  /// as many scans on a log whose scans come seconds apart (D needs 5 of them whatever the rate).
+  std::size_t detect_window_scans = 50;
   double static_distance_m = 0.5;    ///< farther than this from every body: not a real object
   double place_tolerance_m = 1e-3;   ///< the truth's position "is" the move's target within this
 };
@@ -75,6 +78,8 @@ struct IdAssignment {
   BodyKey body;
   std::size_t far_rows = 0;    ///< rows farther than static_distance_m from every body
   bool static_object = false;  ///< far_rows for most (> half) of its rows
+  bool log_own = false;        ///< set aside by setAsideLogOwn (then not static_object)
+  bool left_behind = false;    ///< set aside by setAsideLeftBehind (then not static_object)
 };
 
 /// What became of one move.
@@ -111,6 +116,10 @@ struct ObjectScores {
   /// Tracker ids (not static) whose rows match a person most often: someone standing, reported
   /// as an object (the final table only: eval leaves withdrawn objects out).
   std::size_t people_as_objects = 0;
+  /// Real scans with added objects: ids set aside by setAsideLogOwn (not counted as static).
+  std::size_t log_own_objects = 0;
+  /// Real scans: ids set aside by setAsideLeftBehind (not counted as static).
+  std::size_t left_behind_objects = 0;
   LatencyStats latency;
 };
 
@@ -126,6 +135,27 @@ double median(std::vector<double> v);
 /// Throws std::invalid_argument when a track row names a scan the truth does not have.
 ObjectScores evaluateObjects(const std::vector<TruthRow>& rows, const std::vector<TruthMove>& moves,
                              const std::vector<TrackRow>& tracks, const EvalOptions& options = {});
+
+/// Where the mapper reported an object on a real log before objects were added to it (perturb
+/// --add-objects' NAME.own.csv): the log's own changes (people, doors, chairs), which no truth
+/// labels.
+struct OwnRow {
+  std::size_t scan_index = 0;
+  double x = 0, y = 0;
+};
+
+/// Sets aside every id counted as a static part whose rows, for more than half of them, lie within
+/// `radius` of an own row of the same scan: it is the log's own change, reported as before the
+/// objects were added (log_own, not static_object; the counts follow).
+void setAsideLogOwn(ObjectScores& scores, const std::vector<TrackRow>& tracks,
+                    const std::vector<OwnRow>& own, double radius = 0.5);
+
+/// Sets aside every id counted as a static part whose rows, for more than half of them, lie
+/// where an object of `rows` stood at or before their scan (within max(min_match_radius_m, its
+/// diameter)): the table keeps an object where it last saw it until the place is seen empty, and
+/// a robot that never looks back leaves it there (left_behind, not static_object).
+void setAsideLeftBehind(ObjectScores& scores, const std::vector<TrackRow>& tracks,
+                        const std::vector<TruthRow>& rows, const EvalOptions& options = {});
 
 // --- cell level --------------------------------------------------------------------------------
 
