@@ -21,6 +21,8 @@
 #                FUZZ_SECONDS (60) seconds; new crashing inputs are left in build-fuzz/crashes/
 #   make bench-long  memory and speed of one run over 100,000+ simulated scans, then the same
 #                in a world of four times the area
+#   make eval-slam  --poses slam on the real CARMEN logs of $(DATASETS)/carmen/ made to drift
+#                (dynamap perturb, seeds 1-3): one table of every log x seed (bench/eval_slam.sh)
 #   make compare-icp-slam  odometry-only mapping: dynamap's scan matching against MRPT's icp-slam
 #                and raw odometry on corridors_odom (installs mrpt-apps), and the SENA log maps
 #                with odometry, scan matching and slam, each scored by its consistency
@@ -59,7 +61,7 @@ BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corrid
 SLAM_BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors_odom/corridors_odom.rawlog)
 
 .PHONY: legs eval-people all deps configure build test demo bench format clean scenarios eval eval-heldout eval-real test-asan fuzz \
-  fuzz-deps bench-long compare-icp-slam
+  fuzz-deps bench-long compare-icp-slam eval-slam
 
 all: build
 
@@ -235,6 +237,20 @@ BENCH_LONG_SCANS ?= 100000
 bench-long: build
 	$(BUILD_DIR)/dynamap_bench_long --scans $(BENCH_LONG_SCANS) --scale 1
 	$(BUILD_DIR)/dynamap_bench_long --scans $(BENCH_LONG_SCANS) --scale 2
+
+# Odometry-only mapping of real logs: each corrected CARMEN log of $(DATASETS)/carmen/ made to
+# drift by dynamap perturb (its default noise) with each seed of EVAL_SLAM_SEEDS, mapped with
+# --poses slam $(EVAL_SLAM_ARGS) and scored against its known poses: raw odometry and slam
+# aligned ATE, relative error over 1 m, consistency, loop closures, objects, CPU time. The
+# drifting logs are kept in EVAL_SLAM_OUT between runs. Nothing to do without the logs.
+EVAL_SLAM_SEEDS ?= 1 2 3
+EVAL_SLAM_OUT ?= out/eval-slam
+EVAL_SLAM_ARGS ?=
+eval-slam: build
+	@if ls $(DATASETS)/carmen/*-corrected.log.gz >/dev/null 2>&1; then \
+	  bash bench/eval_slam.sh $(DYNAMAP) $(DATASETS) $(EVAL_SLAM_OUT) "$(EVAL_SLAM_SEEDS)" \
+	    "$(EVAL_SLAM_ARGS)"; \
+	else echo "dynamap: no $(DATASETS)/carmen/*-corrected.log.gz, nothing to evaluate"; fi
 
 # Odometry-only mapping, side by side on corridors_odom: dynamap with ground-truth poses, with
 # scan matching and with raw odometry, and MRPT's icp-slam (config/icp_slam.ini, adapted from

@@ -29,8 +29,9 @@ const char* const kUsage =
     "Reads a log with known poses (ground truth or a simplemap; a CARMEN corrected log's poses)\n"
     "and writes DIR/odometry.rawlog (gz): each scan with a CObservationOdometry whose increments\n"
     "are the true ones with noise (translation sd trans-noise x distance, heading sd rot-noise x\n"
-    "turn + rot-per-m x distance, plus heading-bias x distance), and DIR/gt.txt: the true pose of\n"
-    "each scan (timestamp x y phi). The same input and seed give the same bytes.\n\n"
+    "turn + rot-per-m x distance, plus heading-bias x distance), DIR/gt.txt: the true pose of\n"
+    "each scan (timestamp x y phi), and DIR/odometry.txt: the drifting odometry of each scan, the\n"
+    "same way (dynamap eval --trajectory scores it). The same input and seed give the same bytes.\n\n"
     "With --add-objects, maps LOG first (S, with --config), then adds cylinders to its scans at\n"
     "places S holds free, away from walls and from the robot's path, and moves them while the\n"
     "robot looks elsewhere (jumps) or in view (glides); every beam that meets a cylinder before\n"
@@ -60,6 +61,15 @@ double nonNegative(const po::variables_map& vm, const char* key, double fallback
   const double v = vm[key].as<double>();
   if (!(v >= 0 && v <= 1)) throw UsageError(std::string("--") + key + ": must be in [0, 1]");
   return v;
+}
+
+Noise noiseOf(const po::variables_map& vm) {
+  Noise noise;
+  noise.trans = nonNegative(vm, "trans-noise", noise.trans);
+  noise.rot = nonNegative(vm, "rot-noise", noise.rot);
+  noise.rot_per_m = nonNegative(vm, "rot-per-m", noise.rot_per_m);
+  noise.heading_bias = nonNegative(vm, "heading-bias", noise.heading_bias);
+  return noise;
 }
 
 void onlyWithAddObjects(const po::variables_map& vm) {
@@ -106,11 +116,7 @@ int runPerturb(const Args& args) {
   if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
   if (vm.count("add-objects")) return addObjects(vm);
   onlyWithAddObjects(vm);
-  Noise noise;
-  noise.trans = nonNegative(vm, "trans-noise", noise.trans);
-  noise.rot = nonNegative(vm, "rot-noise", noise.rot);
-  noise.rot_per_m = nonNegative(vm, "rot-per-m", noise.rot_per_m);
-  noise.heading_bias = nonNegative(vm, "heading-bias", noise.heading_bias);
+  const Noise noise = noiseOf(vm);
   const std::string input = vm["input"].as<std::string>(), dir = vm["out"].as<std::string>();
 
   auto source = openScanSource(input, PoseSource::Auto);
@@ -118,11 +124,17 @@ int runPerturb(const Args& args) {
     throw InputError(input + ": no known poses (ground truth or simplemap) to perturb");
   }
   prepareOutputDir(dir);
-  const std::string rawlog_tmp = tempName(dir, "odometry.rawlog"), gt_tmp = tempName(dir, "gt.txt");
+  const std::string rawlog_tmp = tempName(dir, "odometry.rawlog"), gt_tmp = tempName(dir, "gt.txt"),
+                    odo_tmp = tempName(dir, "odometry.txt");
   mrpt::io::CFileGZOutputStream rawlog;
   if (!rawlog.open(rawlog_tmp)) throw InputError(rawlog_tmp + ": cannot write");
   std::FILE* gt = std::fopen(gt_tmp.c_str(), "w");
   if (!gt) throw InputError(gt_tmp + ": cannot write");
+  std::FILE* odo_txt = std::fopen(odo_tmp.c_str(), "w");
+  if (!odo_txt) {
+    std::fclose(gt);
+    throw InputError(odo_tmp + ": cannot write");
+  }
   sim::Rng rng(vm["seed"].as<unsigned long>());
   ScanRecord rec;
   mrpt::poses::CPose2D last_true, odometry;
@@ -139,15 +151,21 @@ int runPerturb(const Args& args) {
     odo.odometry = odometry;
     arch << odo << *rec.scan;
     std::fprintf(gt, "%.6f %.6f %.6f %.6f\n", rec.t, rec.pose.x(), rec.pose.y(), rec.pose.phi());
+    std::fprintf(odo_txt, "%.6f %.6f %.6f %.6f\n", rec.t, odometry.x(), odometry.y(),
+                 odometry.phi());
     ++n;
   }
   rawlog.close();
-  if (std::fclose(gt) != 0) throw InputError(gt_tmp + ": write error");
+  const bool gt_ok = std::fclose(gt) == 0, odo_ok = std::fclose(odo_txt) == 0;
+  if (!gt_ok) throw InputError(gt_tmp + ": write error");
+  if (!odo_ok) throw InputError(odo_tmp + ": write error");
   if (n == 0) throw InputError(input + ": no scans");
   commit(rawlog_tmp, dir, "odometry.rawlog");
   commit(gt_tmp, dir, "gt.txt");
+  commit(odo_tmp, dir, "odometry.txt");
   std::cout << "dynamap perturb: " << n << " scans of " << input << " -> " << dir
-            << "/odometry.rawlog, true poses in " << dir << "/gt.txt\n";
+            << "/odometry.rawlog, true poses in " << dir << "/gt.txt, the odometry in " << dir
+            << "/odometry.txt\n";
   return kExitOk;
 }
 

@@ -248,6 +248,14 @@ TEST(Perturb, SameSeedSameBytesAndTheTruthBeside) {
   EXPECT_EQ(a, test::readFile(dir + "/p2/odometry.rawlog"));
   EXPECT_NE(a, test::readFile(dir + "/p3/odometry.rawlog"));
   EXPECT_EQ(readPoseFile(dir + "/p1/gt.txt").size(), 60u);
+  // odometry.txt: the drifting odometry of each scan, starting on the truth, then off it.
+  EXPECT_EQ(test::readFile(dir + "/p1/odometry.txt"), test::readFile(dir + "/p2/odometry.txt"));
+  const auto odo = readPoseFile(dir + "/p1/odometry.txt"), truth = readPoseFile(dir + "/p1/gt.txt");
+  ASSERT_EQ(odo.size(), 60u);
+  EXPECT_EQ(odo.front().t, truth.front().t);
+  EXPECT_DOUBLE_EQ(odo.front().x, truth.front().x);
+  EXPECT_EQ(odo.back().t, truth.back().t);
+  EXPECT_GT(std::hypot(odo.back().x - truth.back().x, odo.back().y - truth.back().y), 1e-4);
   std::string out;
   EXPECT_EQ(test::run(kExe + " perturb --input " + dir + "/room.rawlog --out " + dir +
                           "/p4 --trans-noise 2",
