@@ -30,7 +30,7 @@ inputs() {
   local prev="" first_positional=1 a
   for a in "$@"; do
     case "$prev" in
-      --input | -i | --scenario | --config | -c | --truth | --trajectory | --result) echo "$a" ;;
+      --input | -i | --scenario | --config | -c | --truth | --trajectory | --result | --people-bag) echo "$a" ;;
     esac
     if [ "$first_positional" = 1 ] && [ "$prev" != "" ] && [ "${a#-}" = "$a" ] &&
        [ "${prev#-}" = "$prev" ] && { [ "$prev" = import-bag ] || [ "$prev" = import-carmen ]; }; then
