@@ -163,7 +163,7 @@ std::size_t splice(std::uint8_t* data, std::size_t size, std::size_t max_size, s
   const std::size_t out = size - (end - begin) + with.size();
   if (out > max_size) return 0;
   std::memmove(data + begin + with.size(), data + end, size - end);
-  std::memcpy(data + begin, with.data(), with.size());
+  if (!with.empty()) std::memcpy(data + begin, with.data(), with.size());
   return out;
 }
 
