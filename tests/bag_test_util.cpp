@@ -131,6 +131,43 @@ void BagWriter::close() {
   bag_->close();
 }
 
+namespace {
+
+std::uint32_t get32(const std::string& b, std::size_t pos) {
+  std::uint32_t v = 0;
+  for (int i = 3; i >= 0; --i) v = v << 8 | static_cast<std::uint8_t>(b[pos + i]);
+  return v;
+}
+
+}  // namespace
+
+std::vector<BagRecord> bagRecords(const std::string& bag, std::size_t begin, std::size_t end) {
+  std::vector<BagRecord> out;
+  for (std::size_t pos = begin; pos + 8 <= end;) {
+    BagRecord r;
+    r.pos = pos;
+    const std::uint32_t hlen = get32(bag, pos);
+    if (hlen > end - pos - 8) break;
+    for (std::size_t f = pos + 4; f + 4 <= pos + 4 + hlen;) {
+      const std::uint32_t n = get32(bag, f);
+      const std::string field = bag.substr(f + 4, n);
+      const auto eq = field.find('=');
+      r.fields[field.substr(0, eq)] = eq == std::string::npos ? "" : field.substr(eq + 1);
+      f += 4 + n;
+    }
+    r.data_pos = pos + 4 + hlen;
+    r.data_len = get32(bag, r.data_pos);
+    if (r.data_len > end - r.data_pos - 4) break;
+    pos = r.data_pos + 4 + r.data_len;
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+void put32(std::string& bytes, std::size_t pos, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) bytes[pos + i] = static_cast<char>(v >> (8 * i));
+}
+
 RosScan rosScanOf(const mrpt::obs::CObservation2DRangeScan& scan) {
   RosScan s;
   const std::size_t n = scan.getScanSize();

@@ -4,6 +4,8 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
+#include <cstdint>
+#include <map>
 #include <memory>
 #include <utility>
 #include <string>
@@ -44,6 +46,20 @@ class BagWriter {
  private:
   std::unique_ptr<rosbag::Bag> bag_;
 };
+
+/// One record of a bag's bytes, as the format lays it out: <header_len><header><data_len><data>.
+struct BagRecord {
+  std::size_t pos = 0;       ///< where header_len is
+  std::size_t data_pos = 0;  ///< where data_len is (the data follow it)
+  std::uint32_t data_len = 0;
+  std::map<std::string, std::string> fields;  ///< the header's, by name
+  char op() const { return fields.count("op") ? fields.at("op")[0] : 0; }
+};
+/// The records in bytes [begin, end) of `bag` (a whole file from byte 13, or a chunk's data),
+/// up to the first that does not fit.
+std::vector<BagRecord> bagRecords(const std::string& bag, std::size_t begin, std::size_t end);
+/// The 4 bytes at `pos` set to `v` (little-endian, as the format).
+void put32(std::string& bytes, std::size_t pos, std::uint32_t v);
 
 /// A rawlog scan as the LaserScan it came from (invalid beams as +inf; frame "laser").
 RosScan rosScanOf(const mrpt::obs::CObservation2DRangeScan& scan);

@@ -16,6 +16,8 @@ namespace {
 
 const std::string kVersionLine = "#ROSBAG V2.0\n";
 
+}  // namespace
+
 std::uint32_t le32(const std::uint8_t* p) {
   return p[0] | (p[1] << 8) | (p[2] << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
 }
@@ -26,7 +28,6 @@ std::uint32_t field32(const std::map<std::string, std::string>& f, const std::st
   return le32(reinterpret_cast<const std::uint8_t*>(it->second.data()));
 }
 
-/// A record header (a list of length-prefixed name=value fields), parsed by ros::Header.
 bool parseFields(const std::uint8_t* p, std::uint32_t len,
                  std::map<std::string, std::string>& out) {
   if (!headerFieldsFit(p, len)) return false;
@@ -38,8 +39,6 @@ bool parseFields(const std::uint8_t* p, std::uint32_t len,
   return true;
 }
 
-/// One record <header_len><header><data_len><data> at p (at most n bytes); false when cut short
-/// or its header cannot be parsed.
 bool recordAt(const std::uint8_t* p, std::size_t n, std::size_t& used,
               std::map<std::string, std::string>& fields, const std::uint8_t*& data,
               std::uint32_t& data_len) {
@@ -54,8 +53,6 @@ bool recordAt(const std::uint8_t* p, std::size_t n, std::size_t& used,
   used = 8 + hlen + dlen;
   return true;
 }
-
-}  // namespace
 
 bool headerFieldsFit(const std::uint8_t* p, std::uint32_t len) {
   std::uint32_t pos = 0;

@@ -20,10 +20,24 @@
 
 namespace dynamap::bag {
 
-/// True when every length-prefixed field of a record header lies inside its `len` bytes.
-/// ros::Header::parse trusts each field's stated length (up to 1 MB) and reads past the header
-/// when it lies; bag_source.cpp makes every parse check this first.
+/// True when every length-prefixed field of a record header lies inside its `len` bytes, which
+/// the caller holds. ros::Header::parse trusts each field's stated length and reads past the
+/// header when it lies: every header dynamap hands it is checked with this first, and every one
+/// rosbag hands it has been checked by checkBagIndex (bag_index_check.h) before the bag is opened.
 bool headerFieldsFit(const std::uint8_t* p, std::uint32_t len);
+
+/// A little-endian 32-bit number at p (the bag format's byte order).
+std::uint32_t le32(const std::uint8_t* p);
+/// A 4-byte header field as a number; 0 when absent or of another size.
+std::uint32_t field32(const std::map<std::string, std::string>& f, const std::string& key);
+/// A record header (length-prefixed name=value fields) of `len` bytes at p, which the caller
+/// holds: checked with headerFieldsFit, then parsed by ros::Header. False when it is corrupt.
+bool parseFields(const std::uint8_t* p, std::uint32_t len, std::map<std::string, std::string>& out);
+/// One record <header_len><header><data_len><data> at p, of which the caller holds n bytes; its
+/// size in `used`. False when it runs past the n bytes or its header is corrupt.
+bool recordAt(const std::uint8_t* p, std::size_t n, std::size_t& used,
+              std::map<std::string, std::string>& fields, const std::uint8_t*& data,
+              std::uint32_t& data_len);
 
 class BagSalvage {
  public:

@@ -1,6 +1,5 @@
 #include "dynamap/input/bag_source.h"
 
-#include <dlfcn.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/poses/CPose3D.h>
 #include <nav_msgs/Odometry.h>
@@ -19,6 +18,7 @@
 #include <map>
 #include <set>
 
+#include "bag_index_check.h"
 #include "bag_salvage.h"
 #include "dynamap/base/allocation_limit.h"
 #include "dynamap/base/pose_track.h"
@@ -276,7 +276,8 @@ struct BagReader::Impl {
   std::string path;
   BagOptions options;
   rosbag::Bag bag;
-  bool salvage = false;  // rosbag cannot open it: read what is left in file order
+  bool salvage = false;     // rosbag cannot open it: read what is left in file order
+  std::string index_fault;  // why its index, there, cannot be followed ("" when there is none)
   BagContents contents;
   std::unique_ptr<MessageCursor> cursor;  // the scans, /tf and odometry
   TfTree tree;
@@ -312,6 +313,16 @@ struct BagReader::Impl {
 };
 
 void BagReader::Impl::open() {
+  // rosbag follows the index's offsets and the records' lengths without checking them: it opens
+  // only a bag whose every offset and length has been checked (bag_index_check.h).
+  if (looksLikeRosBag(path)) {
+    const bag::IndexCheck check = bag::checkBagIndex(path);
+    if (check.verdict != bag::IndexCheck::Verdict::kSound) {
+      salvage = true;
+      if (check.verdict == bag::IndexCheck::Verdict::kCorrupt) index_fault = check.reason;
+      return;
+    }
+  }
   try {
     const AllocationLimit limit;
     bag.open(path, rosbag::bagmode::Read);
@@ -480,12 +491,15 @@ void BagReader::Impl::readMessage() {
   }
 }
 
-/// A bag read without its index ends in a fault either way: cut off where the salvage says, or
-/// never closed (the recording may have gone on).
+/// A bag read without its index ends in a fault either way: cut off where the salvage says, never
+/// closed (the recording may have gone on), or an index that lies (the file may, too).
 std::string BagReader::Impl::salvageFault() const {
   const std::string where = cursor->fault();
-  return "a ROS bag without its index (cut off, or its recorder did not close it), read in "
-         "file order up to its end" +
+  const std::string what =
+      index_fault.empty()
+          ? "a ROS bag without its index (cut off, or its recorder did not close it)"
+          : "a ROS bag whose index cannot be followed (" + index_fault + ")";
+  return what + ", read in file order up to its end" +
          (where.empty() ? std::string() : ": " + where);
 }
 
@@ -700,30 +714,3 @@ void Buffer::ensureCapacity(uint32_t capacity) {
 }
 
 }  // namespace rosbag
-
-// --- ros::Header::parse, bounded -----------------------------------------------------------------
-//
-// rosbag parses every record header with ros::Header::parse, which takes each field's length
-// from the bag and copies that many bytes, past the end of the header when a corrupt bag says
-// so. This definition takes the place of libcpp_common's for rosbag's calls (through the PLT):
-// a header whose fields do not fit is refused (rosbag then throws, the reader reports the bag
-// as corrupt), one whose fields fit is parsed by ROS's own definition, found with RTLD_NEXT.
-
-namespace ros {
-
-bool Header::parse(uint8_t* buffer, uint32_t size, std::string& error_msg) {
-  if (!dynamap::bag::headerFieldsFit(buffer, size)) {
-    error_msg = "a header field runs past the end of the header";
-    return false;
-  }
-  using Parse = bool (*)(Header*, uint8_t*, uint32_t, std::string&);
-  static const Parse ros_parse = reinterpret_cast<Parse>(dlsym(
-      RTLD_NEXT, "_ZN3ros6Header5parseEPhjRNSt7__cxx1112basic_stringIcSt11char_traitsIcESaIcEEE"));
-  if (!ros_parse) {
-    error_msg = "ros::Header::parse not found in libcpp_common";
-    return false;
-  }
-  return ros_parse(this, buffer, size, error_msg);
-}
-
-}  // namespace ros

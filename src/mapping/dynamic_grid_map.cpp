@@ -260,6 +260,8 @@ bool DynamicGridMap::insertScan(const RangeData& rd, const mrpt::poses::CPose3D&
   if (!rd.planar) return false;
   last_stats_.skip_reason = "no beams";
   if (rd.size() == 0) return false;
+  last_stats_.skip_reason = kTooManyBeams;
+  if (rd.size() > kMaxScanBeams) return false;
   last_stats_.skip_reason = "aperture not positive";
   if (!(rd.aperture > 0.0) || !std::isfinite(rd.aperture)) return false;
   if (rd.cos_angle.size() != rd.size() || rd.sin_angle.size() != rd.size()) {

@@ -40,12 +40,23 @@ bool PlainGrid::withinBound(const mrpt::poses::CPose2D& sensor) const {
 
 bool PlainGrid::insert(const mrpt::obs::CObservation2DRangeScan& scan,
                        const mrpt::poses::CPose2D& pose) {
+  // The refusals of DynamicGridMap::insertScan, in its order and words: what the mapper skips
+  // never reaches MRPT here either (nor would it through any other caller).
   const std::size_t n = scan.getScanSize();
-  if (n == 0 || !finitePose(pose) || !scan.isPlanarScan(horizontal_tolerance_)) return false;
-  if (!(scan.aperture > 0.0f) || !std::isfinite(scan.aperture)) return false;
   const mrpt::poses::CPose3D robot(pose);
-  const mrpt::poses::CPose2D sensor(robot + scan.sensorPose);
-  if (!finitePose(sensor) || !withinBound(sensor)) return false;
+  const auto refuse = [&]() -> const char* {
+    if (!scan.isPlanarScan(horizontal_tolerance_)) return "not horizontal";
+    if (n == 0) return "no beams";
+    if (n > kMaxScanBeams) return kTooManyBeams;  // MRPT's insertion: 8 bytes of stack a beam
+    if (!(scan.aperture > 0.0f) || !std::isfinite(scan.aperture)) return "aperture not positive";
+    if (!finitePose(pose)) return "pose not finite";
+    const mrpt::poses::CPose2D sensor(robot + scan.sensorPose);
+    if (!finitePose(sensor)) return "sensor pose not finite";
+    if (!withinBound(sensor)) return "beyond max_map_size_m";
+    return nullptr;
+  };
+  skip_reason_ = refuse();
+  if (skip_reason_) return false;
   const mrpt::obs::CObservation2DRangeScan* use = &scan;
   for (std::size_t i = 0; i < n; ++i) {
     if (!badRange(scan.getScanRange(i))) continue;

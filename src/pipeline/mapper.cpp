@@ -167,6 +167,14 @@ void Mapper::countTime(const ScanRecord& rec) {
 ScanResult Mapper::process(const ScanRecord& rec) {
   countTime(rec);
   ScanResult result;
+  // 0. A scan wider than the grids take (kMaxScanBeams) is skipped before anything looks at it:
+  // the people detector's clustering of 2,000,000 hits alone would take hours.
+  if (rec.scan->getScanSize() > kMaxScanBeams) {
+    result.pose = rec.pose;
+    result.skip_reason = kTooManyBeams;
+    ++counts_.scans_skipped[result.skip_reason];
+    return result;
+  }
   // 1. The scan's geometry, once for the matcher, the grid and the tracker.
   config_.insertion.rangeData(*rec.scan, range_);
   const RangeData& rd = range_;

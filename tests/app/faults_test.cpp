@@ -20,8 +20,10 @@
 #include <regex>
 
 #include "../test_util.h"
+#include "dynamap/mapping/dynamic_grid_map.h"
 #include "dynamap/pipeline/mapper.h"
 #include "fuzz_entries.h"
+#include "structure_mutators.h"
 
 namespace dynamap {
 namespace {
@@ -351,6 +353,28 @@ TEST(Faults, TheBaselineSeesOnlyTheScansTheMapperInserted) {
   EXPECT_TRUE(fs::exists(dir + "/c/mrpt_plain.png"));
 }
 
+// One scan of 2,000,000 beams: dynamap's grid took it, MRPT's insertion in the plain grid (on by
+// default) overflowed the stack on it (SIGSEGV, every output lost); its beams ending within reach
+// (2 m), the people detector alone took hours. Both maps refuse it now, before anything else looks
+// at it, counted once under the same reason, and every other scan is mapped by both.
+TEST(Faults, AScanTooWideForMrptIsSkippedByBothMapsAndCounted) {
+  for (const float range : {2.0f, 40.0f}) {  // hits in the room; every beam past the 15 m reach
+    const std::string dir = test::tempDir("wide");
+    auto steps = roomSteps();
+    steps[7].scan = test::makeScan(std::vector<float>(2000000, range), M_PI, steps[7].t, 50.0f);
+    test::writeObsRawlog(dir + "/wide.rawlog", steps);
+    std::string out;
+    ASSERT_EQ(test::run(kExe + " map --input " + dir + "/wide.rawlog --out " + dir + "/o", &out), 0)
+        << out;
+    const std::string summary = test::readFile(dir + "/o/summary.json");
+    EXPECT_EQ(summaryNumber(summary, kTooManyBeams), 1) << summary;
+    EXPECT_EQ(summaryNumber(summary, "used"), 19) << summary;
+    EXPECT_NE(summary.find("\"mrpt_baseline\""), std::string::npos) << summary;
+    EXPECT_TRUE(fs::exists(dir + "/o/mrpt_plain.png"));
+    EXPECT_TRUE(fs::exists(dir + "/o/static.png"));
+  }
+}
+
 // A line type of bytes that are not UTF-8, with a terminal escape in front: summary.json stays
 // valid JSON and the terminal gets the bytes written out, not obeyed.
 TEST(Faults, BytesFromTheFileAreEscapedInSummaryJsonAndOnTheTerminal) {
@@ -532,6 +556,26 @@ TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
     }
   }
   EXPECT_GE(files, 3u);  // at least one per target
+}
+
+// make fuzz's rawlog mutator on its seed: it changes a record (dropped, repeated, swapped, a scan's
+// beams or a length made to lie, a pose no robot reaches) and whatever it makes, the fuzzer's entry
+// point returns: a crash here ends the test.
+TEST(FuzzRegressions, TheRawlogMutatorsChangesAreHandled) {
+  const std::string seed_log = test::readFile(kSrc + "/fuzz/seeds/rawlog/tiny_head.rawlog");
+  int made = 0, changed = 0;
+  for (unsigned seed = 0; seed < 200; ++seed) {
+    std::string b = seed_log + std::string(16384 - seed_log.size(), '\0');
+    auto* p = reinterpret_cast<std::uint8_t*>(b.data());
+    const std::size_t n = fuzz::mutateRawlog(p, seed_log.size(), b.size(), seed);
+    if (n == 0) continue;  // nothing to change in the record drawn
+    ++made;
+    b.resize(n);
+    changed += b != seed_log;
+    fuzz::rawlogInput(p, n);
+  }
+  EXPECT_GE(made, 100);
+  EXPECT_GE(changed, made * 9 / 10);
 }
 
 }  // namespace

@@ -7,13 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
 
-#include <ros/header.h>
 #include <rosbag/bag.h>
 #include <rosbag/buffer.h>
 
@@ -308,7 +306,9 @@ TEST_F(BagSourceTest, AFileThatIsNoBagIsAnInputErrorNamingIt) {
 }
 
 // rosbag sizes its buffers by what the bag says; dynamap's definition of Buffer::ensureCapacity
-// (bag_source.cpp) replaces rosbag's and applies the record allocation limit.
+// (bag_source.cpp) replaces rosbag's and applies the record allocation limit. setSize is
+// librosbag_storage's own: this fails as soon as rosbag's calls no longer reach dynamap's
+// definition (rosbag's own would take the 1 GiB).
 TEST(RosbagBuffer, GrowsUnderTheAllocationLimitOnly) {
   rosbag::Buffer b;
   {
@@ -321,30 +321,6 @@ TEST(RosbagBuffer, GrowsUnderTheAllocationLimitOnly) {
   }
   b.setSize(4u << 20);  // no limit in force: doubled as rosbag does, 4000 * 2^11
   EXPECT_EQ(b.getCapacity(), 8192000u);
-}
-
-// A record header's fields are length-prefixed; ROS's parser trusts the lengths. dynamap's
-// definition (bag_source.cpp) refuses a header whose fields run past its end, and hands every
-// other to ROS's own.
-TEST(RosHeader, AFieldRunningPastTheHeaderIsRefused) {
-  const auto field = [](const std::string& text, std::uint32_t stated) {
-    std::string f(4, '\0');
-    std::memcpy(f.data(), &stated, 4);
-    return f + text;
-  };
-  std::string good = field("op=\x02", 4) + field("topic=/scan", 11);
-  ros::Header h;
-  std::string error;
-  ASSERT_TRUE(h.parse(reinterpret_cast<std::uint8_t*>(good.data()),
-                      static_cast<std::uint32_t>(good.size()), error))
-      << error;
-  std::string topic;
-  EXPECT_TRUE(h.getValue("topic", topic));
-  EXPECT_EQ(topic, "/scan");
-  std::string lying = field("op=\x02", 4) + field("topic=/scan", 5000);
-  EXPECT_FALSE(h.parse(reinterpret_cast<std::uint8_t*>(lying.data()),
-                       static_cast<std::uint32_t>(lying.size()), error));
-  EXPECT_EQ(error, "a header field runs past the end of the header");
 }
 
 TEST_F(BagSourceTest, TransformsAreKeptForASlidingWindowOnly) {

@@ -96,5 +96,42 @@ TEST(PlainGrid, BadBeamsAreNoEchoesAndTheRestIsInserted) {
   EXPECT_FALSE(std::isfinite(scan->getScanRange(10)));  // the caller's scan untouched
 }
 
+// A scan dynamap's grid refuses is refused by the plain grid too, for the same reason in the same
+// words: MRPT's insertion keeps 8 bytes of stack per beam, and 2,000,000 beams overflowed it
+// (SIGSEGV, every output lost) while dynamap's grid took the scan.
+TEST(PlainGrid, RefusesWhatDynamapsGridRefusesWithTheSameReason) {
+  const auto wide = [](std::size_t n) { return test::makeScan(std::vector<float>(n, 2.0f), M_PI); };
+  auto tilted = wallScan(false);
+  tilted->sensorPose = mrpt::poses::CPose3D(0, 0, 0, 0, 0.5, 0);
+  auto mount = wallScan(false);
+  mount->sensorPose = mrpt::poses::CPose3D(NAN, 0, 0, 0, 0, 0);
+  auto shut = wallScan(false);
+  shut->aperture = 0;
+  const struct {
+    mrpt::obs::CObservation2DRangeScan::Ptr scan;
+    CPose2D pose;
+    const char* reason;
+  } cases[] = {{wide(kMaxScanBeams + 1), CPose2D(), kTooManyBeams},
+               {wide(2000000), CPose2D(), kTooManyBeams},
+               {wide(0), CPose2D(), "no beams"},
+               {tilted, CPose2D(), "not horizontal"},
+               {shut, CPose2D(), "aperture not positive"},
+               {wallScan(false), CPose2D(NAN, 0, 0), "pose not finite"},
+               {mount, CPose2D(), "sensor pose not finite"},
+               {wallScan(false), CPose2D(1e9, 0, 0), "beyond max_map_size_m"},
+               {wide(kMaxScanBeams), CPose2D(), nullptr}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.reason ? c.reason : "inserted");
+    DynamicGridMap map{DynamicMapOptions{}, InsertionOptions{}};
+    PlainGrid plain{DynamicMapOptions{}, InsertionOptions{}};
+    map.insertObservation(*c.scan, mrpt::poses::CPose3D(c.pose));
+    EXPECT_EQ(plain.insert(*c.scan, c.pose), c.reason == nullptr);
+    const char* mine = map.lastInsertStats().skip_reason;
+    const char* its = plain.lastSkipReason();
+    EXPECT_EQ(std::string(mine ? mine : "inserted"), std::string(c.reason ? c.reason : "inserted"));
+    EXPECT_EQ(std::string(its ? its : "inserted"), std::string(c.reason ? c.reason : "inserted"));
+  }
+}
+
 }  // namespace
 }  // namespace dynamap

@@ -20,6 +20,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -29,11 +30,20 @@
 
 namespace dynamap {
 
+/// The most beams a scan may have to be inserted, into S and D or into the plain MRPT grid
+/// (PlainGrid): MRPT's own insertion keeps two ints per beam on the stack, and a scan of
+/// 2,000,000 beams overflows a stack of 8 MB. A wider scan is skipped by both, and by the Mapper
+/// before anything else looks at it, and counted as kTooManyBeams. 100,000 is the most a
+/// simulated laser may have, some 30 times a real 2D laser's, and 0.8 MB of MRPT's stack.
+constexpr std::size_t kMaxScanBeams = 100000;
+constexpr const char* kTooManyBeams = "more than 100,000 beams";
+
 /// What the last scan did, for summaries and the object tracker.
 struct ScanInsertStats {
   bool inserted = false;  ///< false: see skip_reason
-  /// Why the scan was not inserted: "not horizontal", "no usable beam", "pose not finite",
-  /// "beyond max_map_size_m"; nullptr when it was.
+  /// Why the scan was not inserted: "not horizontal", "no beams", kTooManyBeams, "aperture not
+  /// positive", "pose not finite", "sensor pose not finite", "beyond max_map_size_m", "no usable
+  /// beam"; nullptr when it was.
   const char* skip_reason = nullptr;
   std::uint32_t beams_used = 0;  ///< beams that updated at least one cell
   std::uint32_t beams_bad = 0;   ///< NaN, infinite or negative ranges (not inserted)

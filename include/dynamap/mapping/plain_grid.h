@@ -27,9 +27,13 @@ class PlainGrid {
             float x_max, float y_min, float y_max);
   /// MRPT's own insertion of `scan` taken from robot pose `pose`. Beams dynamap calls Bad
   /// (NaN, infinite or negative range) are given to MRPT as invalid (no echo). False, and the
-  /// grid untouched, when the scan is not planar, has no beams, a non-finite robot or sensor
-  /// pose, or could take the grid past max_map_size_m plus the insertion range on a side.
+  /// grid untouched, when the scan is not planar, has no beams or more than kMaxScanBeams, an
+  /// aperture not positive, a non-finite robot or sensor pose, or could take the grid past
+  /// max_map_size_m plus the insertion range on a side: lastSkipReason() then says which, in
+  /// DynamicGridMap's words (ScanInsertStats::skip_reason) for the same refusal.
   bool insert(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::poses::CPose2D& pose);
+  /// Why the last insert() returned false; nullptr after one that inserted (or none).
+  const char* lastSkipReason() const { return skip_reason_; }
   const mrpt::maps::COccupancyGridMap2D& grid() const { return grid_; }
 
  private:
@@ -38,10 +42,11 @@ class PlainGrid {
   bool withinBound(const mrpt::poses::CPose2D& sensor) const;
 
   mrpt::maps::COccupancyGridMap2D grid_;
-  double max_size_m_;                     // max_map_size_m + 2 insertion ranges
-  double reach_m_;                        // the insertion range
-  double horizontal_tolerance_;           // [rad]
+  double max_size_m_;                         // max_map_size_m + 2 insertion ranges
+  double reach_m_;                            // the insertion range
+  double horizontal_tolerance_;               // [rad]
   mrpt::obs::CObservation2DRangeScan clean_;  // a scan with Bad beams made invalid
+  const char* skip_reason_ = nullptr;
 };
 
 /// Cell counts over S's grid, each S cell compared with the plain grid's cell at its centre.
