@@ -8,6 +8,9 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "bag_index_check.h"
+#include "dynamap/input/bag_source.h"
+
 namespace dynamap {
 
 namespace {
@@ -16,7 +19,15 @@ const char* const kPersonType = "leg_tracker/Person";
 // geometry_msgs/Pose (seven float64) then a uint32 id.
 constexpr std::size_t kPersonBytes = 7 * 8 + 4;
 
+// rosbag follows what a bag's index says without checking it: the bag is checked first, and an
+// annotated bag whose index cannot be followed is refused (it is no training or truth data).
 void open(rosbag::Bag& bag, const std::string& path) {
+  if (!looksLikeRosBag(path)) throw std::runtime_error(path + ": not a ROS 1 bag");
+  const bag::IndexCheck check = bag::checkBagIndex(path);
+  if (check.verdict != bag::IndexCheck::Verdict::kSound) {
+    throw std::runtime_error(path + ": a ROS bag whose index cannot be followed" +
+                             (check.reason.empty() ? std::string() : " (" + check.reason + ")"));
+  }
   try {
     bag.open(path, rosbag::bagmode::Read);
   } catch (const std::exception& e) {

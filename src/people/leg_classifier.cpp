@@ -10,8 +10,39 @@
 
 namespace dynamap {
 
+// The forest's trees laid out flat once (OpenCV's predict copies each sample into a new matrix
+// and walks its own structures per call: most of a scan's classification cost).
+struct FlatNode {
+  int var = -1;  // < 0: a leaf
+  float threshold = 0;
+  bool inversed = false;
+  int left = -1, right = -1;
+  bool leg = false;  // a leaf's vote
+};
+
 struct LegClassifier::Impl {
   cv::Ptr<cv::ml::RTrees> forest;
+  std::vector<FlatNode> nodes;  // OpenCV's node order
+  std::vector<int> roots;
+
+  void flatten() {
+    const auto& cv_nodes = forest->getNodes();
+    const auto& splits = forest->getSplits();
+    nodes.assign(cv_nodes.size(), {});
+    for (std::size_t i = 0; i < cv_nodes.size(); ++i) {
+      const cv::ml::DTrees::Node& n = cv_nodes[i];
+      FlatNode& f = nodes[i];
+      f.leg = n.value == 1;
+      if (n.split < 0) continue;
+      const cv::ml::DTrees::Split& sp = splits[static_cast<std::size_t>(n.split)];
+      f.var = sp.varIdx;
+      f.threshold = sp.c;
+      f.inversed = sp.inversed;
+      f.left = n.left;
+      f.right = n.right;
+    }
+    roots = forest->getRoots();
+  }
 };
 
 std::vector<LegSample> labelSegments(const ScanHits& hits,
@@ -86,12 +117,19 @@ const LegClassifier& LegClassifier::builtin() {
     c.impl_->forest = cv::ml::RTrees::create();
     c.impl_->forest->read(fs.getFirstTopLevelNode());
     if (!c.impl_->forest->isTrained()) throw std::runtime_error("the built-in leg classifier is corrupt");
+    c.impl_->flatten();
     return c;
   }();
   return model;
 }
 
 LegClassifier LegClassifier::load(const std::string& path) {
+  LegClassifier c = loadForest(path);
+  c.impl_->flatten();
+  return c;
+}
+
+LegClassifier LegClassifier::loadForest(const std::string& path) {
   if (!std::ifstream(path).good()) throw std::runtime_error(path + ": cannot open the leg classifier");
   LegClassifier c;
   try {
@@ -138,6 +176,7 @@ LegClassifier LegClassifier::train(const std::vector<LegSample>& samples,
   f.setCalculateVarImportance(false);
   f.setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER, p.trees, 0));
   if (!f.train(data)) throw std::runtime_error("the leg classifier did not train");
+  c.impl_->flatten();
   return c;
 }
 
@@ -152,7 +191,29 @@ void LegClassifier::save(const std::string& path) const {
 
 bool LegClassifier::empty() const { return impl_->forest.empty() || !impl_->forest->isTrained(); }
 
+double LegClassifier::legProbability(const LegFeatures& x) const {
+  if (impl_->roots.empty()) return 0.0;
+  std::size_t legs = 0;
+  for (const int root : impl_->roots) {
+    const FlatNode* n = &impl_->nodes[static_cast<std::size_t>(root)];
+    while (n->var >= 0) {
+      // OpenCV's rule for an ordered variable: left when the value is at most the threshold.
+      const bool left = (x[static_cast<std::size_t>(n->var)] <= n->threshold) != n->inversed;
+      n = &impl_->nodes[static_cast<std::size_t>(left ? n->left : n->right)];
+    }
+    legs += n->leg ? 1 : 0;
+  }
+  return static_cast<double>(legs) / static_cast<double>(impl_->roots.size());
+}
+
 std::vector<double> LegClassifier::legProbability(const std::vector<LegFeatures>& rows) const {
+  std::vector<double> out;
+  out.reserve(rows.size());
+  for (const LegFeatures& x : rows) out.push_back(legProbability(x));
+  return out;
+}
+
+std::vector<double> LegClassifier::legProbabilityByOpenCv(const std::vector<LegFeatures>& rows) const {
   std::vector<double> out(rows.size(), 0.0);
   if (rows.empty() || empty()) return out;
   cv::Mat votes;
@@ -171,8 +232,5 @@ std::vector<double> LegClassifier::legProbability(const std::vector<LegFeatures>
   return out;
 }
 
-double LegClassifier::legProbability(const LegFeatures& features) const {
-  return legProbability(std::vector<LegFeatures>{features})[0];
-}
 
 }  // namespace dynamap

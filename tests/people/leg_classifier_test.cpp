@@ -133,6 +133,36 @@ TEST(LegClassifier, AForestSurvivesSavingAndLoadingAndLearnsWhatItIsShown) {
   }
 }
 
+TEST(LegClassifier, TheFlatTreesVoteAsOpenCvsOwnPrediction) {
+  // Features of discs, walls and corners at many ranges and sizes, and arbitrary ones around
+  // them: every probability the same, to the vote.
+  std::vector<LegFeatures> rows;
+  for (double d = 0.5; d < 8; d += 0.25) {
+    for (double r : {0.01, 0.04, 0.06, 0.1, 0.2}) {
+      const ScanHits h = hitsOf(rangesOf([&](double a) {
+        const double disc = discRange(a, d, 0.3, r);
+        return std::isnan(disc) ? segmentRange(a, d + 1, -1.0, d + 1.3, 0.0) : disc;
+      }));
+      for (const Segment& s : segmentScan(h, kLegSegmentJump, kLegMinPoints)) {
+        rows.push_back(legFeatures(h, s));
+        LegFeatures odd = rows.back();
+        for (std::size_t k = 0; k < odd.size(); ++k) odd[k] *= static_cast<float>(0.5 + 0.07 * k);
+        rows.push_back(odd);
+      }
+    }
+  }
+  ASSERT_GT(rows.size(), 200u);
+  const LegClassifier& c = LegClassifier::builtin();
+  const std::vector<double> flat = c.legProbability(rows), cv = c.legProbabilityByOpenCv(rows);
+  std::size_t legs = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_DOUBLE_EQ(flat[i], cv[i]) << "row " << i;
+    legs += flat[i] >= 0.5;
+  }
+  EXPECT_GT(legs, 0u);  // both answers are found among the rows
+  EXPECT_LT(legs, rows.size());
+}
+
 TEST(LegClassifier, ErrorsNameTheFileAndTheProblem) {
   const std::string dir = test::tempDir("legs_bad");
   std::ofstream(dir + "/junk.yml") << "%YAML:1.0\nnothing: 1\n";

@@ -54,11 +54,15 @@ class LegClassifier {
   void save(const std::string& path) const;
 
   bool empty() const;
-  /// The share of the trees that vote "leg" for each row of `features`, in [0, 1].
+  /// The share of the trees that vote "leg" for each row of `features`, in [0, 1], from the
+  /// trees laid out flat once (no allocation per call).
   std::vector<double> legProbability(const std::vector<LegFeatures>& features) const;
   double legProbability(const LegFeatures& features) const;
+  /// The same through OpenCV's own prediction (slower): the flat trees must agree with it.
+  std::vector<double> legProbabilityByOpenCv(const std::vector<LegFeatures>& features) const;
 
  private:
+  static LegClassifier loadForest(const std::string& path);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
