@@ -899,7 +899,7 @@ void scoreConsistency(const std::string& log, const std::string& file) {
 
 }  // namespace
 
-int runEval(const Args& args) {
+static po::options_description evalOptions() {
   po::options_description opts("options");
   opts.add_options()("help,h", "explain the options")(
       "scenario,s", po::value<std::string>(), "the scenario file the truth was simulated from")(
@@ -920,6 +920,11 @@ int runEval(const Args& args) {
       "person-topic", po::value<std::string>()->default_value("/ground_truth_people_tracks"),
       "with --people-bag: the topic of the Person messages");
   addBagOptions(opts, "with --people-bag, as the bag was mapped: ");
+  return opts;
+}
+
+int runEval(const Args& args) {
+  const po::options_description opts = evalOptions();
   po::positional_options_description positional;
   po::variables_map vm;
   if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
