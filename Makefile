@@ -21,6 +21,10 @@
 #                FUZZ_SECONDS (60) seconds; new crashing inputs are left in build-fuzz/crashes/
 #   make bench-long  memory and speed of one run over 100,000+ simulated scans, then the same
 #                in a world of four times the area
+#   make legs    regrow the people detector's leg classifier (config/legs.yml.gz) from the
+#                leg training bags of $(DATASETS)/people/leg_training/
+#   make eval-people  CLEAR MOT on the annotated person-following bag, and the object table of a
+#                standing robot with people walking past ($(DATASETS)/people/)
 #   make eval-slam  --poses slam on the real CARMEN logs of $(DATASETS)/carmen/ made to drift
 #                (dynamap perturb, seeds 1-3): one table of every log x seed (bench/eval_slam.sh)
 #   make compare-icp-slam  odometry-only mapping: dynamap's scan matching against MRPT's icp-slam
