@@ -16,8 +16,7 @@ struct ScanPlace {
 };
 
 // Every scan the mapper reads from the bag, by index: its time and the laser's mount.
-std::map<std::size_t, ScanPlace> scanPlaces(const std::string& bag, const BagOptions& options) {
-  BagReader reader(bag, options);
+std::map<std::size_t, ScanPlace> scanPlaces(BagReader& reader) {
   reader.require(false, false);
   std::map<std::size_t, ScanPlace> out;
   BagScan s;
@@ -30,9 +29,9 @@ std::map<std::size_t, ScanPlace> scanPlaces(const std::string& bag, const BagOpt
 BagPeopleTruth bagPeopleTruth(const std::string& bag, const BagOptions& options,
                               const std::string& person_topic,
                               const std::vector<TimedPose>& poses) {
-  BagReader probe(bag, options);  // the scan topic the mapper takes
-  const std::string scan_topic = probe.contents().scan_topic;
-  const auto places = scanPlaces(bag, options);
+  BagReader reader(bag, options);
+  const std::string scan_topic = reader.contents().scan_topic;  // the one the mapper takes
+  const auto places = scanPlaces(reader);
   BagPeopleTruth out;
   for (const PersonTruth& p : readPersonTruthBag(bag, scan_topic, person_topic)) {
     ++out.messages;

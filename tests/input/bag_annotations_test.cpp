@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "../bag_test_util.h"
+#include "dynamap/evaluation/bag_people_truth.h"
 #include "dynamap/input/bag_annotations.h"
 #include "../test_util.h"
 
@@ -69,6 +72,31 @@ TEST(BagAnnotations, APersonGoesWithTheScanRecordedBeforeIt) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("people.bag"), std::string::npos) << e.what();
   }
+}
+
+TEST(BagPeopleTruth, EachPersonIsPlacedWithItsScansPoseAndTheLasersMount) {
+  const std::string path = test::tempDir("truthbag") + "/people.bag";
+  {
+    test::BagWriter w(path);
+    // The laser 0.2 m ahead of base_link; the Person is in the laser's frame.
+    w.tf(0.9, "base_link", "laser", mrpt::poses::CPose2D(0.2, 0, 0), true);
+    w.scan("/scan", 1.0, scanOf(2.0f));
+    w.person("/ground_truth_people_tracks", 1.05, 1.5, 0.25, 3);
+    w.scan("/scan", 2.0, scanOf(2.0f));
+    w.person("/ground_truth_people_tracks", 2.05, 1.0, 0.0, 3);
+    w.close();
+  }
+  // The run's poses: the robot at (1, 0) facing +y, then a scan the run has no pose for.
+  const std::vector<TimedPose> poses = {{1.0, 1.0, 0.0, M_PI / 2}};
+  const BagPeopleTruth t = bagPeopleTruth(path, BagOptions{}, "/ground_truth_people_tracks", poses);
+  EXPECT_EQ(t.messages, 2u);
+  EXPECT_EQ(t.unplaced, 1u);
+  ASSERT_EQ(t.rows.size(), 1u);
+  EXPECT_EQ(t.rows[0].scan_index, 0u);
+  EXPECT_EQ(t.rows[0].id, 3);
+  // Laser at (1, 0.2) facing +y: (1.5, 0.25) in its frame is (1 - 0.25, 0.2 + 1.5).
+  EXPECT_NEAR(t.rows[0].x, 0.75, 1e-9);
+  EXPECT_NEAR(t.rows[0].y, 1.7, 1e-9);
 }
 
 }  // namespace
