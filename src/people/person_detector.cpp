@@ -57,18 +57,26 @@ ScanHits scanHits(const mrpt::obs::CObservation2DRangeScan& scan, const mrpt::po
   return scanHits(makeRangeData(scan, max_range, M_PI), robot);
 }
 
+namespace {
+
+// The cell of `p` in (cx, cy); false off the grid, where S knows nothing. Compared as
+// coordinates first: a far point's cell index does not fit an int (converting it is undefined).
+bool cellOf(const DynamicGridMap& map, const HitPoint2& p, int& cx, int& cy) {
+  if (!(p.x >= map.getXMin() && p.x < map.getXMax() && p.y >= map.getYMin() && p.y < map.getYMax()))
+    return false;
+  cx = map.x2idx(p.x);
+  cy = map.y2idx(p.y);
+  return cx >= 0 && cy >= 0 && cx < static_cast<int>(map.getSizeX()) &&
+         cy < static_cast<int>(map.getSizeY());
+}
+
+}  // namespace
+
 std::vector<HitPoint2> freeSpaceHits(const DynamicGridMap& map, const ScanHits& hits, int guard) {
   std::vector<HitPoint2> out;
   for (const HitPoint2& p : hits.points) {
-    // Off the grid S knows nothing there. Compared as coordinates first: a far point's cell
-    // index does not fit an int (converting it is undefined).
-    if (!(p.x >= map.getXMin() && p.x < map.getXMax() && p.y >= map.getYMin() &&
-          p.y < map.getYMax()))
-      continue;
-    const int cx = map.x2idx(p.x), cy = map.y2idx(p.y);
-    if (cx < 0 || cy < 0 || cx >= static_cast<int>(map.getSizeX()) ||
-        cy >= static_cast<int>(map.getSizeY()))
-      continue;
+    int cx = 0, cy = 0;
+    if (!cellOf(map, p, cx, cy)) continue;
     // The hit's own cell first: on a wall (most hits) it is not free, and that settles it.
     bool free = map.isStaticFree(cx, cy);
     for (int dy = -guard; dy <= guard && free; ++dy) {
@@ -369,10 +377,8 @@ namespace {
 bool onStatic(const DynamicGridMap& map, const ScanHits& hits, const Segment& s) {
   std::size_t occupied = 0;
   for (std::size_t i = s.begin; i < s.end; ++i) {
-    const HitPoint2& p = hits.points[i];
-    if (!(p.x >= map.getXMin() && p.x < map.getXMax() && p.y >= map.getYMin() && p.y < map.getYMax()))
-      continue;  // off the grid: S knows nothing there (and the index would not fit an int)
-    occupied += map.isStaticOccupied(map.x2idx(p.x), map.y2idx(p.y)) ? 1 : 0;
+    int cx = 0, cy = 0;
+    if (cellOf(map, hits.points[i], cx, cy)) occupied += map.isStaticOccupied(cx, cy) ? 1 : 0;
   }
   return 2 * occupied > s.size();
 }
@@ -395,9 +401,8 @@ std::vector<PersonDetection> shapeDetections(const DynamicGridMap& map, const Sc
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     if (p[i] < o.leg_probability) continue;
     const Segment& s = candidates[i];
-    std::vector<HitPoint2> pts(hits.points.begin() + static_cast<std::ptrdiff_t>(s.begin),
-                               hits.points.begin() + static_cast<std::ptrdiff_t>(s.end));
-    clusters.push_back(summarise(pts, 0, pts.size(), hits.sensor_x, hits.sensor_y, o.max_person_width));
+    clusters.push_back(
+        summarise(hits.points, s.begin, s.end, hits.sensor_x, hits.sensor_y, o.max_person_width));
   }
   std::vector<PersonDetection> out = pairLegs(clusters, o);
   for (PersonDetection& d : out) d.shape = true;
