@@ -112,7 +112,8 @@ bench: build
 	  --config config/default.ini
 	$(BUILD_DIR)/dynamap_bench_slam --dynamap $(DYNAMAP) --input $(SLAM_BENCH_INPUT)
 
-# The people detector's leg classifier (config/legs.yml.gz, built into dynamap): grown on
+# The people detector's leg classifier (config/legs.yml.gz, built into dynamap as the same
+# trees laid out flat, config/legs.forest.gz): grown on
 # leg_tracker's real training bags, four marked-leg bags and two of the three lasers of the
 # empty-room bag, and scored on the other two marked-leg bags and the third laser
 # (docs/objects-and-people.md). The same bags give the same file.
@@ -122,7 +123,8 @@ legs: build
 	  $(foreach n,1 2 3 4,--positive $(LEG_DATA)/positive_$(n)_extracted.bag) \
 	  --negative $(LEG_DATA)/negative_2.bag:/left_scan --negative $(LEG_DATA)/negative_2.bag:/right_scan \
 	  $(foreach n,6 7,--validate-positive $(LEG_DATA)/positive_$(n)_extracted.bag) \
-	  --validate-negative $(LEG_DATA)/negative_2.bag:/rear_scan --out config/legs.yml.gz
+	  --validate-negative $(LEG_DATA)/negative_2.bag:/rear_scan --out config/legs.yml.gz \
+	  --flat config/legs.forest.gz
 
 # CLEAR MOT on the real people bags (leg_tracker's annotated person-following bag, unzipped
 # into $(DATASETS)/people/) and the object table of a standing robot with people walking past.

@@ -19,7 +19,7 @@ namespace dynamap::app {
 namespace {
 
 const char* const kUsage =
-    "usage: dynamap train-legs --positive BAG[:TOPIC]... --negative BAG[:TOPIC]... --out MODEL\n"
+    "usage: dynamap train-legs --positive BAG[:TOPIC]... --negative BAG[:TOPIC]... --out MODEL [--flat FOREST]\n"
     "                          [--validate-positive BAG[:TOPIC]...] [--validate-negative ...]\n\n"
     "Each --positive bag holds LaserScans (TOPIC, default /training_scan) and, recorded just\n"
     "before each, a geometry_msgs/PoseArray of its leg clusters (--positions-topic); each\n"
@@ -114,6 +114,7 @@ int runTrainLegs(const Args& args) {
       "trees", po::value<int>()->default_value(LegForestParams{}.trees), "trees of the forest")(
       "depth", po::value<int>()->default_value(LegForestParams{}.max_depth), "their depth")(
       "out,o", po::value<std::string>()->required(), "the model file to write (.yml.gz)")(
+      "flat", po::value<std::string>(), "also write its trees laid out flat (what dynamap builds in)")(
       "samples", po::value<std::string>(), "also write every sample's features to this CSV");
   po::variables_map vm;
   if (!parseArgs(args, opts, {}, vm, kUsage)) return kExitOk;
@@ -137,6 +138,7 @@ int runTrainLegs(const Args& args) {
   if (vm.count("samples")) writeSamples(vm["samples"].as<std::string>(), train, validate);
   const LegClassifier model = LegClassifier::train(train, params);
   model.save(vm["out"].as<std::string>());
+  if (vm.count("flat")) model.saveFlat(vm["flat"].as<std::string>());
   report(model, train, "training");
   if (!validate.empty()) report(model, validate, "validation");
   return kExitOk;

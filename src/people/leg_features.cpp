@@ -30,9 +30,13 @@ std::vector<Segment> segmentScan(const ScanHits& hits, double jump, std::size_t 
   std::vector<Segment> out;
   const std::vector<HitPoint2>& p = hits.points;
   std::size_t begin = 0;
+  const double jump2 = jump * jump;  // squared distances: hypot costs more than the rest
   for (std::size_t i = 1; i <= p.size(); ++i) {
-    const bool split = i == p.size() || p[i].beam > p[i - 1].beam + max_gap + 1 ||
-                       std::hypot(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y) > jump;
+    const auto far = [&] {
+      const double dx = p[i].x - p[i - 1].x, dy = p[i].y - p[i - 1].y;
+      return dx * dx + dy * dy > jump2;
+    };
+    const bool split = i == p.size() || p[i].beam > p[i - 1].beam + max_gap + 1 || far();
     if (!split) continue;
     if (i - begin >= min_points) out.push_back({begin, i});
     begin = i;
@@ -52,37 +56,54 @@ const std::array<const char*, kLegFeatureCount>& legFeatureNames() {
 
 namespace {
 
-// The points of a segment relative to their mean: a map's coordinates are tens of metres, a
-// leg's a few centimetres, and the fits below square them.
-struct Centred {
+// What one call works in, kept per thread between calls: a scan classifies a few dozen
+// segments, and allocating these for each was most of the features' cost.
+struct Scratch {
   std::vector<Eigen::Vector2d> p;
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  std::vector<double> xs, ys, steps, turns, curvatures, inscribed;
 };
 
-Centred centred(const ScanHits& h, const Segment& s) {
-  Centred c;
-  for (std::size_t i = s.begin; i < s.end; ++i) c.mean += Eigen::Vector2d(h.points[i].x, h.points[i].y);
-  c.mean /= static_cast<double>(s.size());
+Scratch& scratch() {
+  thread_local Scratch s;
+  return s;
+}
+
+// The points of a segment relative to their mean (into `p`): a map's coordinates are tens of
+// metres, a leg's a few centimetres, and the fits below square them.
+Eigen::Vector2d centred(const ScanHits& h, const Segment& s, std::vector<Eigen::Vector2d>& p) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (std::size_t i = s.begin; i < s.end; ++i) mean += Eigen::Vector2d(h.points[i].x, h.points[i].y);
+  mean /= static_cast<double>(s.size());
+  p.clear();
   for (std::size_t i = s.begin; i < s.end; ++i)
-    c.p.emplace_back(h.points[i].x - c.mean.x(), h.points[i].y - c.mean.y());
-  return c;
+    p.emplace_back(h.points[i].x - mean.x(), h.points[i].y - mean.y());
+  return mean;
+}
+
+// The median of `v` (reordered): the mean of its two middle values when their count is even.
+double median(std::vector<double>& v) {
+  const std::size_t n = v.size();
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2), v.end());
+  const double upper = v[n / 2];
+  if (n % 2 == 1) return upper;
+  return 0.5 * (*std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2)) + upper);
 }
 
 // The median of x and of y, each on its own (robust to a stray point at an end).
-Eigen::Vector2d medianPoint(const std::vector<Eigen::Vector2d>& p) {
-  std::vector<double> xs, ys;
-  for (const auto& q : p) xs.push_back(q.x()), ys.push_back(q.y());
-  std::sort(xs.begin(), xs.end());
-  std::sort(ys.begin(), ys.end());
-  const std::size_t n = p.size();
-  return {0.5 * (xs[(n - 1) / 2] + xs[n / 2]), 0.5 * (ys[(n - 1) / 2] + ys[n / 2])};
+Eigen::Vector2d medianPoint(const std::vector<Eigen::Vector2d>& p, Scratch& w) {
+  w.xs.clear();
+  w.ys.clear();
+  for (const auto& q : p) w.xs.push_back(q.x()), w.ys.push_back(q.y());
+  return {median(w.xs), median(w.ys)};
 }
 
 // Circle through the points by least squares on x^2 + y^2 = 2 a x + 2 b y + c: its radius (at
-// most 2 m: a straight run has an "infinite" one) and the mean squared distance to it.
+// most 2 m: a straight run has an "infinite" one) and the mean squared distance to it. Matrix
+// is a fixed-capacity type for the usual segment, a heap-allocated one for a long one.
+template <typename Matrix, typename Vector>
 std::pair<double, double> circleFit(const std::vector<Eigen::Vector2d>& p) {
-  Eigen::MatrixXd a(p.size(), 3);
-  Eigen::VectorXd b(p.size());
+  Matrix a(static_cast<Eigen::Index>(p.size()), 3);
+  Vector b(static_cast<Eigen::Index>(p.size()));
   for (std::size_t i = 0; i < p.size(); ++i) {
     a.row(static_cast<Eigen::Index>(i)) << 2 * p[i].x(), 2 * p[i].y(), 1.0;
     b(static_cast<Eigen::Index>(i)) = p[i].squaredNorm();
@@ -101,6 +122,15 @@ std::pair<double, double> circleFit(const std::vector<Eigen::Vector2d>& p) {
     sq += d * d;
   }
   return {r, capped ? -1.0 : sq / static_cast<double>(p.size())};
+}
+
+std::pair<double, double> circleFit(const std::vector<Eigen::Vector2d>& p) {
+  constexpr int kFixed = 96;
+  if (p.size() <= static_cast<std::size_t>(kFixed)) {
+    return circleFit<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::ColMajor, kFixed, 3>,
+                     Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kFixed, 1>>(p);
+  }
+  return circleFit<Eigen::MatrixXd, Eigen::VectorXd>(p);
 }
 
 // The angle at m from the ray towards a to the ray towards b, in [0, 2 pi).
@@ -125,8 +155,10 @@ double stdOf(const std::vector<double>& v) {
 }
 
 // Features 7-12: the boundary's steps, turns, curvature and inscribed angles.
-void boundaryFeatures(const std::vector<Eigen::Vector2d>& p, LegFeatures& f) {
-  std::vector<double> steps, turns, curvatures, inscribed;
+void boundaryFeatures(const std::vector<Eigen::Vector2d>& p, Scratch& w, LegFeatures& f) {
+  std::vector<double>&steps = w.steps, &turns = w.turns, &curvatures = w.curvatures,
+  &inscribed = w.inscribed;
+  steps.clear(), turns.clear(), curvatures.clear(), inscribed.clear();
   for (std::size_t i = 1; i < p.size(); ++i) steps.push_back((p[i] - p[i - 1]).norm());
   for (std::size_t i = 1; i + 1 < p.size(); ++i) {
     const double th = angleAt(p[i - 1], p[i], p[i + 1]);
@@ -160,10 +192,11 @@ float occludedBy(const ScanHits& h, std::ptrdiff_t beam, double range) {
 
 LegFeatures legFeatures(const ScanHits& h, const Segment& s) {
   LegFeatures f{};
-  const Centred c = centred(h, s);
-  const std::vector<Eigen::Vector2d>& p = c.p;
+  Scratch& w = scratch();
+  const Eigen::Vector2d mean = centred(h, s, w.p);
+  const std::vector<Eigen::Vector2d>& p = w.p;
   const double n = static_cast<double>(p.size());
-  const Eigen::Vector2d med = medianPoint(p);
+  const Eigen::Vector2d med = medianPoint(p, w);
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
   double dev = 0;
   for (const auto& q : p) {
@@ -180,9 +213,9 @@ LegFeatures legFeatures(const ScanHits& h, const Segment& s) {
   const auto [radius, circ] = circleFit(p);
   f[5] = static_cast<float>(circ < 0 ? f[4] : circ);
   f[6] = static_cast<float>(radius);
-  boundaryFeatures(p, f);
+  boundaryFeatures(p, w, f);
   const Eigen::Vector2d sensor(h.sensor_x, h.sensor_y);
-  const double distance = (c.mean + med - sensor).norm();
+  const double distance = (mean + med - sensor).norm();
   f[13] = static_cast<float>(distance);
   f[14] = static_cast<float>(distance * h.step);
   const HitPoint2 &first = h.points[s.begin], &last = h.points[s.end - 1];

@@ -387,20 +387,12 @@ bool onStatic(const DynamicGridMap& map, const ScanHits& hits, const Segment& s)
 
 std::vector<PersonDetection> shapeDetections(const DynamicGridMap& map, const ScanHits& hits,
                                              const PeopleOptions& o, const LegClassifier& legs) {
-  std::vector<Segment> candidates;
-  std::vector<LegFeatures> features;
+  std::vector<PointCluster> clusters;
   for (const Segment& s : segmentScan(hits, kLegSegmentJump, kLegMinPoints)) {
     const HitPoint2 &a = hits.points[s.begin], &b = hits.points[s.end - 1];
     // Only what could be a person at all reaches the classifier (most of a scan is walls).
     if (std::hypot(a.x - b.x, a.y - b.y) > o.max_person_width || onStatic(map, hits, s)) continue;
-    candidates.push_back(s);
-    features.push_back(legFeatures(hits, s));
-  }
-  const std::vector<double> p = legs.legProbability(features);
-  std::vector<PointCluster> clusters;
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    if (p[i] < o.leg_probability) continue;
-    const Segment& s = candidates[i];
+    if (!legs.isLeg(legFeatures(hits, s), o.leg_probability)) continue;
     clusters.push_back(
         summarise(hits.points, s.begin, s.end, hits.sensor_x, hits.sensor_y, o.max_person_width));
   }

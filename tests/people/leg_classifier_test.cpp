@@ -6,8 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+
+#include <zlib.h>
 
 #include "dynamap/people/leg_classifier.h"
 #include "dynamap/people/leg_features.h"
@@ -15,6 +18,16 @@
 
 namespace dynamap {
 namespace {
+
+std::string gunzipFile(const std::string& path) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  std::string out;
+  char buf[4096];
+  int n = 0;
+  while (f != nullptr && (n = gzread(f, buf, sizeof buf)) > 0) out.append(buf, static_cast<std::size_t>(n));
+  if (f != nullptr) gzclose(f);
+  return out;
+}
 
 constexpr double kStep = 0.33 * M_PI / 180;  // the training data's beams
 constexpr double kMax = 20.0;
@@ -133,7 +146,7 @@ TEST(LegClassifier, AForestSurvivesSavingAndLoadingAndLearnsWhatItIsShown) {
   }
 }
 
-TEST(LegClassifier, TheFlatTreesVoteAsOpenCvsOwnPrediction) {
+TEST(LegClassifier, TheBuiltInFlatTreesVoteAsOpenCvsOwnPredictionOfTheShippedModel) {
   // Features of discs, walls and corners at many ranges and sizes, and arbitrary ones around
   // them: every probability the same, to the vote.
   std::vector<LegFeatures> rows;
@@ -152,15 +165,58 @@ TEST(LegClassifier, TheFlatTreesVoteAsOpenCvsOwnPrediction) {
     }
   }
   ASSERT_GT(rows.size(), 200u);
-  const LegClassifier& c = LegClassifier::builtin();
-  const std::vector<double> flat = c.legProbability(rows), cv = c.legProbabilityByOpenCv(rows);
+  // The built-in trees (config/legs.forest.gz) are those of config/legs.yml.gz: one regrown
+  // without the other fails here.
+  const LegClassifier shipped = LegClassifier::load(DYNAMAP_SOURCE_DIR "/config/legs.yml.gz");
+  const std::vector<double> flat = LegClassifier::builtin().legProbability(rows),
+                            cv = shipped.legProbabilityByOpenCv(rows);
   std::size_t legs = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     EXPECT_DOUBLE_EQ(flat[i], cv[i]) << "row " << i;
+    for (double t : {0.0, 0.1, 0.5, 0.52, 0.9, 1.0})  // the trees it stops asking cannot change it
+      EXPECT_EQ(LegClassifier::builtin().isLeg(rows[i], t), flat[i] >= t) << "row " << i << " at " << t;
     legs += flat[i] >= 0.5;
   }
   EXPECT_GT(legs, 0u);  // both answers are found among the rows
   EXPECT_LT(legs, rows.size());
+}
+
+TEST(LegClassifier, FlatTreesSurviveWritingAndReadingAndBadOnesAreRefusedByName) {
+  std::vector<LegSample> samples;
+  for (int i = 0; i < 100; ++i) {
+    LegSample s;
+    s.leg = i % 2 == 0;
+    s.features.fill(static_cast<float>(i % 5));
+    s.features[0] = s.leg ? 3.0f + 0.01f * i : 9.0f + 0.01f * i;
+    samples.push_back(s);
+  }
+  LegForestParams p;
+  p.trees = 3;
+  const LegClassifier c = LegClassifier::train(samples, p);
+  const std::string path = test::tempDir("legs_flat") + "/model.forest.gz";
+  c.saveFlat(path);
+  const std::string bytes = gunzipFile(path);
+  const LegClassifier back = LegClassifier::fromFlat(bytes, "model");
+  for (const LegSample& s : samples)
+    EXPECT_DOUBLE_EQ(back.legProbability(s.features), c.legProbability(s.features));
+  const auto refused = [](const std::string& b, const char* why) {
+    try {
+      LegClassifier::fromFlat(b, "model.forest");
+      ADD_FAILURE() << "read: " << why;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("model.forest"), std::string::npos) << e.what();
+    }
+  };
+  refused(bytes.substr(0, bytes.size() - 1), "cut short");
+  refused("not a forest", "no magic");
+  std::string loop = bytes;
+  // The first node's left child made itself (a split node: the root of a trained tree).
+  const std::size_t magic = 21, header = magic + 12, first = header + 4 * 3;
+  std::memset(&loop[first + 10], 0, 4);
+  refused(loop, "a child before its parent");
+  std::string features = bytes;
+  features[magic] = 16;
+  refused(features, "16 features");
 }
 
 TEST(LegClassifier, ErrorsNameTheFileAndTheProblem) {

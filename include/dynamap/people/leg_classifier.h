@@ -42,8 +42,14 @@ class LegClassifier {
   LegClassifier(LegClassifier&&) noexcept;
   LegClassifier& operator=(LegClassifier&&) noexcept;
 
-  /// The model dynamap ships (config/legs.yml.gz, trained by `make legs`), read on first use.
+  /// The model dynamap ships (config/legs.yml.gz, trained by `make legs`), built in as its
+  /// trees laid out flat (config/legs.forest, written beside it), read on first use. It has
+  /// no OpenCV forest: legProbabilityByOpenCv answers 0 and save() throws; saveFlat() works.
   static const LegClassifier& builtin();
+  /// The trees of saveFlat()'s file, uncompressed, as `bytes`. Throws std::runtime_error naming
+  /// `name` when they are cut short, take another number of features or point outside the
+  /// forest (every walk from a root ends at a leaf).
+  static LegClassifier fromFlat(const std::string& bytes, const std::string& name);
   /// Reads a model written by save() (.yml, .yml.gz, .xml). Throws std::runtime_error naming
   /// the file when it cannot be read, is no forest, or takes another number of features.
   static LegClassifier load(const std::string& path);
@@ -53,11 +59,17 @@ class LegClassifier {
   /// Writes the model (gzip-compressed when `path` ends in .gz). Throws naming the file.
   void save(const std::string& path) const;
 
+  /// Writes the trees laid out flat, gzip-compressed: what dynamap builds in. Throws naming the
+  /// file.
+  void saveFlat(const std::string& path) const;
+
   bool empty() const;
   /// The share of the trees that vote "leg" for each row of `features`, in [0, 1], from the
   /// trees laid out flat once (no allocation per call).
   std::vector<double> legProbability(const std::vector<LegFeatures>& features) const;
   double legProbability(const LegFeatures& features) const;
+  /// legProbability(features) >= threshold, with only as many trees asked as it takes.
+  bool isLeg(const LegFeatures& features, double threshold) const;
   /// The same through OpenCV's own prediction (slower): the flat trees must agree with it.
   std::vector<double> legProbabilityByOpenCv(const std::vector<LegFeatures>& features) const;
 
