@@ -47,6 +47,8 @@ const OptionTable<ObjectOptions>& ObjectOptions::table() {
            "max wait for an out-of-sight place to tell a move from a new object"},
           {"min_unseen_s", &O::min_unseen_s, Range::closed(0, 1e6), "s",
            "an object seen in place more recently did not move unseen"},
+          {"min_rest_s", &O::min_rest_s, Range::closed(0, 1e6), "s",
+           "a new object whose place is seen empty sooner after its report is retracted"},
           {"match_time_scale", &O::match_time_scale, Range::openClosed(0, 1e9), "s",
            "identity: cost of time since vanishing"},
           {"match_distance_scale", &O::match_distance_scale, Range::openClosed(0, 1e9), "m",

@@ -236,9 +236,12 @@ void ObjectTracker::dropLostTracks(double t, std::size_t scan_index) {
       undoClaim(key, ObjectState::Retracted, t, scan_index);
     } else if (c) {
       TrackedObject& o = object(c->id);
-      o.state = ObjectState::Absent;
+      // Gone soon after it first came, from a place it had never left: it only paused there.
+      const bool brief = o.n_moves == 0 && o.history.size() <= 1 &&
+                         t - o.first_seen_t < options_.min_rest_s;
+      o.state = brief ? ObjectState::Retracted : ObjectState::Absent;
       o.vanished_t = t;
-      emit(t, scan_index, o, ObjectEvent::Disappeared);
+      emit(t, scan_index, o, brief ? ObjectEvent::Retracted : ObjectEvent::Disappeared);
     }
     pending_.erase(key);
     reviewing_.erase(key);

@@ -24,11 +24,11 @@ void PeopleObjects::update(const PersonTracker& people, ObjectTracker& objects,
         placed(people, s);
         break;
       case ObjectEvent::Disappeared:
+      case ObjectEvent::Retracted:  // gone soon after it came: its leg-sized partner may be too
         judgeGone(objects, s, scan_index);
         break;
       case ObjectEvent::Withdrawn:
       case ObjectEvent::Relabeled:  // the new id has its own event (new, moved...) too
-      case ObjectEvent::Retracted:
         break;
     }
   }

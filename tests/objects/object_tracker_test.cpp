@@ -38,9 +38,17 @@ mrpt::obs::CObservation2DRangeScan::Ptr roomScan(const mrpt::poses::CPose2D& pos
   return test::makeScan(ranges, aperture);
 }
 
+// The tests below move objects every few seconds, sooner than min_rest_s would let a new one
+// count: it has a test of its own (ANewObjectSeenGoneWithinMinRest...).
+ObjectOptions quickMoves() {
+  ObjectOptions o;
+  o.min_rest_s = 0;
+  return o;
+}
+
 struct TrackerRun {
   DynamicGridMap map;
-  ObjectTracker tracker;
+  ObjectTracker tracker{quickMoves()};
   std::size_t index = 0;
   void steps(int n, const mrpt::poses::CPose2D& pose, const std::vector<Cylinder>& cylinders) {
     for (int i = 0; i < n; ++i) step(pose, cylinders);
@@ -169,7 +177,7 @@ TEST(ObjectTracker, AnObjectPushedAcrossTheRoomStaysOneObjectAndItsRowFollowsIt)
 // An object of the same size appearing behind the robot seconds after the first was seen in
 // place is another object: the first cannot have crossed the room unseen (min_unseen_s).
 int objectsAfterATwinAppearsBehind(double min_unseen_s) {
-  ObjectOptions o;
+  ObjectOptions o = quickMoves();
   o.min_unseen_s = min_unseen_s;
   TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
   const mrpt::poses::CPose2D ahead(0.0, 0.0, 0.0), behind(0.0, 0.0, M_PI);
@@ -190,7 +198,7 @@ TEST(ObjectTracker, AnObjectSeenInPlaceSecondsAgoIsNotTakenForOneThatMovedUnseen
 // of size `b_size`, stands in the room: a match farther than far_match_distance needs a size
 // no other known object has as nearly.
 std::size_t objectsAfterAFarMatch(double far_match_distance, double b_size) {
-  ObjectOptions o;
+  ObjectOptions o = quickMoves();
   o.far_match_distance = far_match_distance;
   TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
   const mrpt::poses::CPose2D pose(-2.5, 0.0, 0.0);
@@ -211,7 +219,7 @@ TEST(ObjectTracker, AFarMatchIsTakenOnlyForASizeNoOtherObjectShares) {
 // nearer. The robot turns back: A's place is seen empty, B's seen still occupied. B gets its
 // place back, and the detection the identity that fits now: A, moved; not a third object.
 TEST(ObjectTracker, ARevivedPlaceGivesItsDetectionTheIdentityThatFitsNow) {
-  ObjectOptions o;
+  ObjectOptions o = quickMoves();
   o.min_unseen_s = 5;
   TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
   const mrpt::poses::CPose2D ahead(0.0, 0.0, 0.0), behind(0.0, 0.0, M_PI);
@@ -261,7 +269,7 @@ std::size_t scansFromDTo(TrackerRun& run, const mrpt::poses::CPose2D& pose, cons
 // The first report comes within 5 scans of D crossing the threshold on the object's cells
 // (once the scans show its whole outline), not confirm_scans later.
 std::size_t scansFromDToReport(int report_scans) {
-  ObjectOptions o;
+  ObjectOptions o = quickMoves();
   o.report_scans = report_scans;
   TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
   const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
@@ -280,7 +288,7 @@ TEST(ObjectTracker, ANewObjectIsReportedWithinFiveScansOfDCrossingTheThreshold) 
 // default; with errors wide enough to leave size_tolerance ("a new object" at the ends) it
 // waits for more outlines, which shrink the error.
 std::size_t scansFromDToMoved(double report_errors) {
-  ObjectOptions o;
+  ObjectOptions o = quickMoves();
   o.report_errors = report_errors;
   TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
   const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
@@ -301,7 +309,7 @@ TEST(ObjectTracker, AFirstReportWaitsWhileTheIdentityCouldChangeWithinReportErro
 // twin's size has settled: the report is relabeled to a new object, and the object keeps its
 // place and its id.
 TEST(ObjectTracker, AProvisionalIdentityLaterCorrectedIsRelabeledAndTheTableEndsRight) {
-  ObjectOptions o;
+  ObjectOptions o = quickMoves();
   o.min_unseen_s = 0;  // any object out of view may have moved
   TrackerRun run{DynamicGridMap(), ObjectTracker(o)};
   const mrpt::poses::CPose2D ahead(0.0, 0.0, 0.0), behind(0.0, 0.0, M_PI);
@@ -345,6 +353,25 @@ TEST(ObjectTracker, AReportSeenGoneBeforeItSettledIsRetracted) {
   EXPECT_EQ(run.tracker.objects()[0].state, ObjectState::Retracted);
   EXPECT_FALSE(listedInTable(run.tracker.objects()[0].state));
   EXPECT_EQ(run.events(), (std::vector<ObjectEvent>{ObjectEvent::New, ObjectEvent::Retracted}));
+}
+
+// Something that stood 3 s where nothing stood before (someone pausing, a door) is no object.
+TEST(ObjectTracker, ANewObjectSeenGoneWithinMinRestIsRetractedAndOneThatRestedIsAbsent) {
+  for (const double min_rest_s : {10.0, 0.0}) {
+    ObjectOptions o;
+    o.min_rest_s = min_rest_s;
+    TrackerRun run{DynamicGridMap{}, ObjectTracker(o)};
+    const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+    run.steps(10, pose, {});
+    run.steps(15, pose, {{1.0, 0.5, 0.4}});  // reported, its size settled, 3 s in all
+    ASSERT_EQ(run.tracker.objects().size(), 1u);
+    EXPECT_EQ(run.tracker.objects()[0].state, ObjectState::Present);
+    run.steps(10, pose, {});
+    const ObjectState gone = min_rest_s > 0 ? ObjectState::Retracted : ObjectState::Absent;
+    EXPECT_EQ(run.tracker.objects()[0].state, gone) << "min_rest_s " << min_rest_s;
+    EXPECT_EQ(run.events().back(),
+              min_rest_s > 0 ? ObjectEvent::Retracted : ObjectEvent::Disappeared);
+  }
 }
 
 // Two objects whose sizes differ by 3 cm (half the size tolerance) each move twice in turn,

@@ -11,7 +11,7 @@ namespace dynamap {
 
 /// Withdrawn: it was a person standing, who walked off. Relabeled: a provisional identity
 /// found to be another object's (or a new one's). Retracted: a provisional report whose place
-/// was seen empty before its size settled. The table holds none of these three.
+/// was seen empty before its size settled, or a new object's seen empty within min_rest_s. The table holds none of these three.
 enum class ObjectState { Present, Absent, Withdrawn, Relabeled, Retracted };
 const char* toString(ObjectState s);
 /// Whether objects.csv lists an object in state `s` (present or absent).
@@ -20,7 +20,7 @@ inline bool listedInTable(ObjectState s) {
 }
 
 /// Relabeled: the object first reported as `from_id` is this one (`object_id`). Retracted: a
-/// provisional report withdrawn (its place seen empty before its size settled).
+/// report withdrawn (its place seen empty before its size settled or within min_rest_s).
 enum class ObjectEvent { New, Moved, Disappeared, Reappeared, Withdrawn, Relabeled, Retracted };
 const char* toString(ObjectEvent e);
 
