@@ -44,7 +44,7 @@ po::options_description exportOptions() {
        "MCAP chunks: zstd, lz4 or none")  //
       ("poses", po::value<std::string>()->default_value("auto"),
        "the poses written to /tf, as dynamap map --poses reads the log: auto, ground_truth "
-       "(map -> base_link) or odometry (odom -> base_link)");
+       "(map -> base_link), odometry (odom -> base_link) or fixed (no /tf)");
   addBagOptions(o, "a ROS bag input: ");
   return o;
 }
@@ -68,8 +68,8 @@ ExportArgs parseExportArgs(const Args& args, bool& help) {
     throw UsageError(e.what());
   }
   if (a.in.poses != PoseSource::Auto && a.in.poses != PoseSource::GroundTruth &&
-      a.in.poses != PoseSource::Odometry) {
-    throw UsageError("--poses: auto, ground_truth or odometry");
+      a.in.poses != PoseSource::Odometry && a.in.poses != PoseSource::Fixed) {
+    throw UsageError("--poses: auto, ground_truth, odometry or fixed");
   }
   a.in.bag = bagOptions(vm);
   return a;

@@ -176,8 +176,7 @@ class McapStream : public MessageStream {
           op, start + kRecordHead, static_cast<std::size_t>(len),
           "chunk at offset " + std::to_string(at) + ", its record at " + std::to_string(start));
     }
-    std::stable_sort(entries_.begin(), entries_.end(),
-                     [](const Entry& a, const Entry& b) { return a.t < b.t; });
+    sortByTime();
   }
 
   /// Reads records from pos_ until one yields messages; false at the end or a fault.
@@ -192,7 +191,10 @@ class McapStream : public MessageStream {
       std::uint8_t op = 0;
       std::uint64_t len = 0;
       // Peek the opcode first: only a chunk or a schema, channel or message is read whole.
-      if (!readRecord(at, op, len, false, content)) return false;
+      if (!readRecord(at, op, len, false, content)) {
+        if (op == kChunk) salvageCutChunk(at);
+        return !entries_.empty();
+      }
       const bool keep = op == kChunk || op == kSchema || op == kChannel || op == kMessage;
       if (keep && !readRecord(at, op, len, true, content)) return false;
       pos_ = at + kRecordHead + len;
@@ -221,6 +223,40 @@ class McapStream : public MessageStream {
       setFault(at, e.what());
       return false;
     }
+  }
+
+  /// A chunk's messages need not be in time order (MCAP does not ask it): they are put in it.
+  void sortByTime() {
+    std::stable_sort(entries_.begin(), entries_.end(),
+                     [](const Entry& a, const Entry& b) { return a.t < b.t; });
+  }
+
+  /// A chunk the file ends inside: when uncompressed, its whole records before the cut.
+  void salvageCutChunk(std::uint64_t at) {
+    std::vector<std::uint8_t> rest(static_cast<std::size_t>(file_size_ - at - kRecordHead));
+    in_.clear();
+    in_.seekg(static_cast<std::streamoff>(at + kRecordHead));
+    if (!in_.read(reinterpret_cast<char*>(rest.data()), static_cast<std::streamsize>(rest.size())))
+      return;
+    try {
+      Fields f(rest.data(), rest.size());
+      f.take(28);                    // start and end times, uncompressed size, CRC
+      if (!f.str().empty()) return;  // a compressed chunk cut short is lost
+      f.u64();
+      batch_.assign(rest.begin() + static_cast<std::ptrdiff_t>(f.at()), rest.end());
+      Fields r(batch_.data(), batch_.size());
+      while (r.left() > 0) {
+        const std::size_t start = r.at();
+        const std::uint8_t op = r.u8();
+        const std::uint64_t len = r.u64();
+        r.take(len);
+        takeRecord(op, start + kRecordHead, static_cast<std::size_t>(len),
+                   "cut chunk at offset " + std::to_string(at) + ", its record at " +
+                       std::to_string(start));
+      }
+    } catch (const FormatError&) {  // the record the cut goes through
+    }
+    sortByTime();
   }
 
   bool nextIndexedChunk() {
