@@ -105,9 +105,14 @@ MALAGA := /usr/share/mrpt/datasets/malaga-cs-fac-building.simplemap.gz
 BENCH_READS ?= $(BENCH_INPUT) rawlogs/people/people.rawlog $(wildcard $(MALAGA)) \
   fuzz/seeds/bag/small.bag
 
+# The bench log is read once more as a ROS 2 bag (MCAP, zstd chunks) that export-bag writes.
+BENCH_MCAP := $(BUILD_DIR)/bench-input.mcap
+
 bench: build
 	@[ -f "$(FREIBURG)" ] || echo "dynamap: $(FREIBURG) not found, benchmarking the bundled corridors rawlog"
-	$(BUILD_DIR)/dynamap_bench --input $(BENCH_INPUT) $(BENCH_ARGS) $(addprefix --read ,$(BENCH_READS))
+	$(DYNAMAP) export-bag $(BENCH_INPUT) --out $(BENCH_MCAP) --compression zstd > /dev/null
+	$(BUILD_DIR)/dynamap_bench --input $(BENCH_INPUT) $(BENCH_ARGS) $(addprefix --read ,$(BENCH_READS)) \
+	  --read $(BENCH_MCAP)
 	@[ ! -f "$(MALAGA)" ] || $(BUILD_DIR)/dynamap_bench --input $(MALAGA) $(BENCH_ARGS)
 	$(BUILD_DIR)/dynamap_bench_startup --dynamap $(DYNAMAP) --input rawlogs/tiny/tiny.rawlog \
 	  --config config/default.ini

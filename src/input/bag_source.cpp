@@ -6,12 +6,12 @@
 #include <nav_msgs/Odometry.h>
 #include <ros/header.h>
 #include <rosbag/bag.h>
-#include <boost/make_shared.hpp>
 #include <rosbag/buffer.h>
 #include <rosbag/exceptions.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_msgs/TFMessage.h>
+#include <boost/make_shared.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -22,10 +22,10 @@
 
 #include "bag_index_check.h"
 #include "bag_salvage.h"
-#include "dynamap/input/cdr_messages.h"
-#include "dynamap/input/ros2_bag.h"
 #include "dynamap/base/allocation_limit.h"
 #include "dynamap/base/pose_track.h"
+#include "dynamap/input/cdr_messages.h"
+#include "dynamap/input/ros2_bag.h"
 
 namespace dynamap {
 namespace {
@@ -224,8 +224,7 @@ class MessageCursor {
   MessageCursor(const std::string& path, const std::vector<std::string>& topics)
       : salvage_(std::make_unique<bag::BagSalvage>(path)), topics_(topics) {}
   /// A ROS 2 bag: the stream hands out CDR bytes, decoded here into the ROS 1 messages.
-  explicit MessageCursor(std::unique_ptr<ros2::MessageStream> stream)
-      : ros2_(std::move(stream)) {}
+  explicit MessageCursor(std::unique_ptr<ros2::MessageStream> stream) : ros2_(std::move(stream)) {}
 
   /// Moves to the next message (the first, on the first call); false at the end.
   bool next() {
@@ -267,9 +266,7 @@ class MessageCursor {
     return size_ > 0 ? std::min(1.0, (done_ - 1) / size_) : 1.0;
   }
   /// Salvage and ROS 2: where and why the readable part ended, and the topics seen.
-  std::string fault() const {
-    return ros2_ ? ros2_->fault() : salvage_ ? salvage_->fault() : "";
-  }
+  std::string fault() const { return ros2_ ? ros2_->fault() : salvage_ ? salvage_->fault() : ""; }
   std::vector<std::pair<std::string, std::string>> salvagedTopics() const {
     return salvage_->topics();
   }

@@ -5,6 +5,7 @@
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
 #include <fastcdr/exceptions/Exception.h>
+#include <fastcdr/exceptions/NotEnoughMemoryException.h>
 
 #include <stdexcept>
 #include <string>
@@ -69,15 +70,24 @@ void decoding(const char* type, F&& f) {
   }
 }
 
-/// Writing: a Cdr over a growing buffer, its encapsulation written (CDR, little-endian).
+/// Writing: a Cdr over a zeroed buffer, its encapsulation written (CDR, little-endian). Fast-CDR
+/// skips alignment padding without writing it: a zeroed buffer makes the same message the same
+/// bytes. A buffer found too small is doubled and the message written again.
 template <class F>
 std::vector<std::uint8_t> encoding(F&& f) {
-  FastBuffer buffer;
-  Cdr cdr(buffer, Cdr::LITTLE_ENDIANNESS, Cdr::DDS_CDR);
-  cdr.serialize_encapsulation();
-  f(cdr);
-  const auto* p = reinterpret_cast<const std::uint8_t*>(buffer.getBuffer());
-  return std::vector<std::uint8_t>(p, p + cdr.getSerializedDataLength());
+  for (std::size_t size = 4096;; size *= 2) {
+    std::vector<char> bytes(size, 0);
+    FastBuffer buffer(bytes.data(), bytes.size());
+    Cdr cdr(buffer, Cdr::LITTLE_ENDIANNESS, Cdr::DDS_CDR);
+    try {
+      cdr.serialize_encapsulation();
+      f(cdr);
+    } catch (const eprosima::fastcdr::exception::NotEnoughMemoryException&) {
+      continue;
+    }
+    const auto* p = reinterpret_cast<const std::uint8_t*>(bytes.data());
+    return std::vector<std::uint8_t>(p, p + cdr.getSerializedDataLength());
+  }
 }
 
 }  // namespace

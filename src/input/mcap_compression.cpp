@@ -12,24 +12,22 @@
 namespace dynamap::mcap {
 namespace {
 
-std::vector<std::uint8_t> unzstd(const std::uint8_t* p, std::size_t n, std::size_t size) {
-  std::vector<std::uint8_t> out(size);
+void unzstd(const std::uint8_t* p, std::size_t n, std::size_t size,
+            std::vector<std::uint8_t>& out) {
   const std::size_t got = ZSTD_decompress(out.data(), out.size(), p, n);
   if (ZSTD_isError(got)) {
     throw FormatError(std::string("zstd data cannot be decompressed: ") + ZSTD_getErrorName(got));
   }
   if (got != size) throw FormatError("zstd data are shorter than the chunk states");
-  return out;
 }
 
-std::vector<std::uint8_t> unlz4(const std::uint8_t* p, std::size_t n, std::size_t size) {
+void unlz4(const std::uint8_t* p, std::size_t n, std::size_t size, std::vector<std::uint8_t>& out) {
   LZ4F_dctx* raw = nullptr;
   if (LZ4F_isError(LZ4F_createDecompressionContext(&raw, LZ4F_VERSION))) {
     throw FormatError("no LZ4 decompression context");
   }
   std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> ctx(
       raw, &LZ4F_freeDecompressionContext);
-  std::vector<std::uint8_t> out(size);
   std::size_t in_at = 0, out_at = 0;
   for (;;) {
     std::size_t in_n = n - in_at, out_n = size - out_at;
@@ -45,25 +43,25 @@ std::vector<std::uint8_t> unlz4(const std::uint8_t* p, std::size_t n, std::size_
     if (in_n == 0 && out_n == 0) throw FormatError("LZ4 data end inside their frame");
   }
   if (out_at != size) throw FormatError("LZ4 data are shorter than the chunk states");
-  return out;
 }
 
 }  // namespace
 
-std::vector<std::uint8_t> decompress(const std::string& compression, const std::uint8_t* p,
-                                     std::size_t n, std::uint64_t size) {
+void decompress(const std::string& compression, const std::uint8_t* p, std::size_t n,
+                std::uint64_t size, std::vector<std::uint8_t>& out) {
   if (size > kMaxRecord || size > kMaxRatio * n + (std::uint64_t{1} << 20)) {
     throw FormatError("a chunk states " + std::to_string(size) + " uncompressed bytes for " +
                       std::to_string(n) + " stored");
   }
-  const auto s = static_cast<std::size_t>(size);
-  if (compression.empty()) {
-    if (n != size) throw FormatError("an uncompressed chunk's size differs from its records'");
-    return std::vector<std::uint8_t>(p, p + n);
+  if (compression != "zstd" && compression != "lz4") {
+    throw FormatError("unknown chunk compression '" + compression + "'");
   }
-  if (compression == "zstd") return unzstd(p, n, s);
-  if (compression == "lz4") return unlz4(p, n, s);
-  throw FormatError("unknown chunk compression '" + compression + "'");
+  // Not zeroed again when the buffer held a chunk as large: only the bytes added are.
+  out.resize(static_cast<std::size_t>(size));
+  if (compression == "zstd")
+    unzstd(p, n, out.size(), out);
+  else
+    unlz4(p, n, out.size(), out);
 }
 
 std::vector<std::uint8_t> compress(const std::string& compression, const std::uint8_t* p,

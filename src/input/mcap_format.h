@@ -90,10 +90,11 @@ struct Out {
   }
 };
 
-/// The `size` bytes a chunk compressed with `compression` ("", "zstd", "lz4") holds; throws
-/// FormatError when they do not come out exactly (corrupt data, another size, unknown method).
-std::vector<std::uint8_t> decompress(const std::string& compression, const std::uint8_t* p,
-                                     std::size_t n, std::uint64_t size);
+/// The `size` bytes a chunk compressed with "zstd" or "lz4" holds, into `out` (its storage reused
+/// from chunk to chunk); throws FormatError when they do not come out exactly (corrupt data,
+/// another size, an unknown method).
+void decompress(const std::string& compression, const std::uint8_t* p, std::size_t n,
+                std::uint64_t size, std::vector<std::uint8_t>& out);
 /// `p[0, n)` compressed with "zstd" or "lz4" (level: zstd's; LZ4 frames use their default).
 std::vector<std::uint8_t> compress(const std::string& compression, const std::uint8_t* p,
                                    std::size_t n);

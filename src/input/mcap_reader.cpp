@@ -56,7 +56,12 @@ class McapStream : public MessageStream {
   std::uint64_t timeNs() const override { return entries_[entry_].t; }
   const std::uint8_t* data() const override { return batch_.data() + entries_[entry_].pos; }
   std::size_t size() const override { return entries_[entry_].len; }
-  std::string where() const override { return path_ + ": " + entries_[entry_].where; }
+  std::string where() const override {
+    const Entry& e = entries_[entry_];
+    if (e.record == kTopLevel) return path_ + ": record at offset " + std::to_string(e.chunk);
+    return path_ + ": chunk at offset " + std::to_string(e.chunk) + ", its record at " +
+           std::to_string(e.record);
+  }
   std::string fault() const override { return fault_; }
   double fractionRead() const override {
     if (indexed_) return chunks_.empty() ? 1.0 : double(next_chunk_) / double(chunks_.size());
@@ -77,8 +82,9 @@ class McapStream : public MessageStream {
     std::uint64_t t;
     std::size_t pos, len;
     std::uint16_t channel;
-    std::string where;
+    std::uint64_t chunk, record;  // the chunk's file offset, the record's in its records
   };
+  static constexpr std::uint64_t kTopLevel = ~std::uint64_t{0};  // a record outside any chunk
   struct ChunkRef {
     std::uint64_t t, offset, length;
     std::vector<std::uint16_t> channels;  // those it has messages of (none listed: unknown)
@@ -124,8 +130,10 @@ class McapStream : public MessageStream {
     return true;
   }
 
-  /// A Schema, Channel or Message record (top-level or inside a chunk) of `batch_`.
-  void takeRecord(std::uint8_t op, std::size_t pos, std::size_t len, const std::string& where) {
+  /// A Schema, Channel or Message record of `batch_` at `pos` (inside the chunk at file offset
+  /// `chunk`, its `record`th byte; or kTopLevel, a record at offset `chunk`).
+  void takeRecord(std::uint8_t op, std::size_t pos, std::size_t len, std::uint64_t chunk,
+                  std::uint64_t record) {
     Fields f(batch_.data() + pos, len);
     if (op == kSchema) {
       const std::uint16_t id = f.u16();
@@ -148,13 +156,13 @@ class McapStream : public MessageStream {
       f.u64();
       const auto c = channels_.find(id);
       if (c == channels_.end() || !c->second.wanted) return;
-      entries_.push_back({t, pos + f.at(), f.left(), id, where});
+      entries_.push_back({t, pos + f.at(), f.left(), id, chunk, record});
     }
   }
 
-  /// The records of a chunk's content (at file offset `at`) into entries_, by time.
-  void takeChunk(std::uint64_t at, const std::vector<std::uint8_t>& content) {
-    Fields f(content.data(), content.size());
+  /// The records of a chunk's content (at file offset `at`, in content_) into entries_, by time.
+  void takeChunk(std::uint64_t at) {
+    Fields f(content_.data(), content_.size());
     f.u64();
     f.u64();
     const std::uint64_t size = f.u64();
@@ -162,26 +170,42 @@ class McapStream : public MessageStream {
     const std::string compression = f.str();
     const std::uint64_t n = f.u64();
     const std::uint8_t* records = f.take(n);
-    batch_ = decompress(compression, records, static_cast<std::size_t>(n), size);
-    if (crc != 0 && crc32(batch_.data(), batch_.size()) != crc) {
+    std::size_t base = 0;  // where the records start in batch_
+    if (compression.empty()) {
+      if (n != size) throw FormatError("an uncompressed chunk's size differs from its records'");
+      base = static_cast<std::size_t>(records - content_.data());
+      batch_.swap(content_);  // read in place
+    } else {
+      decompress(compression, records, static_cast<std::size_t>(n), size, batch_);
+    }
+    const auto end = base + static_cast<std::size_t>(size);
+    if (crc != 0 && crc32(batch_.data() + base, end - base) != crc) {
       throw FormatError("its records do not match their CRC");
     }
-    Fields r(batch_.data(), batch_.size());
-    while (r.left() > 0) {
-      const std::size_t start = r.at();
-      const std::uint8_t op = r.u8();
-      const std::uint64_t len = r.u64();
-      r.take(len);
-      takeRecord(
-          op, start + kRecordHead, static_cast<std::size_t>(len),
-          "chunk at offset " + std::to_string(at) + ", its record at " + std::to_string(start));
+    takeRecords(base, end, at, false);
+  }
+
+  /// The records of batch_[begin, end) (a chunk's): all, or (`cut`) those before the first that
+  /// does not fit.
+  void takeRecords(std::size_t begin, std::size_t end, std::uint64_t at, bool cut) {
+    Fields r(batch_.data() + begin, end - begin);
+    try {
+      while (r.left() > 0) {
+        const std::size_t start = r.at();
+        const std::uint8_t op = r.u8();
+        const std::uint64_t len = r.u64();
+        r.take(len);
+        takeRecord(op, begin + start + kRecordHead, static_cast<std::size_t>(len), at, start);
+      }
+    } catch (const FormatError&) {
+      if (!cut) throw;
     }
     sortByTime();
   }
 
   /// Reads records from pos_ until one yields messages; false at the end or a fault.
   bool nextLinear() {
-    std::vector<std::uint8_t> content;
+    std::vector<std::uint8_t>& content = content_;
     while (entries_.empty()) {
       if (pos_ >= file_size_) {
         setFault(pos_, "the file ends without its footer (cut off, or never closed)");
@@ -203,19 +227,19 @@ class McapStream : public MessageStream {
         return false;
       }
       if (!keep) continue;
-      if (!takeBatch(at, op, content)) return false;
+      if (!takeBatch(at, op)) return false;
     }
     return true;
   }
 
   /// One record read whole: a chunk's messages, or a top-level record, into entries_.
-  bool takeBatch(std::uint64_t at, std::uint8_t op, std::vector<std::uint8_t>& content) {
+  bool takeBatch(std::uint64_t at, std::uint8_t op) {
     try {
       if (op == kChunk) {
-        takeChunk(at, content);
+        takeChunk(at);
       } else {
-        batch_.swap(content);
-        takeRecord(op, 0, batch_.size(), "record at offset " + std::to_string(at));
+        batch_.swap(content_);
+        takeRecord(op, 0, batch_.size(), at, kTopLevel);
       }
       return true;
     } catch (const FormatError& e) {
@@ -233,6 +257,7 @@ class McapStream : public MessageStream {
 
   /// A chunk the file ends inside: when uncompressed, its whole records before the cut.
   void salvageCutChunk(std::uint64_t at) {
+    if (file_size_ - at - kRecordHead > kMaxRecord) return;
     std::vector<std::uint8_t> rest(static_cast<std::size_t>(file_size_ - at - kRecordHead));
     in_.clear();
     in_.seekg(static_cast<std::streamoff>(at + kRecordHead));
@@ -244,23 +269,14 @@ class McapStream : public MessageStream {
       if (!f.str().empty()) return;  // a compressed chunk cut short is lost
       f.u64();
       batch_.assign(rest.begin() + static_cast<std::ptrdiff_t>(f.at()), rest.end());
-      Fields r(batch_.data(), batch_.size());
-      while (r.left() > 0) {
-        const std::size_t start = r.at();
-        const std::uint8_t op = r.u8();
-        const std::uint64_t len = r.u64();
-        r.take(len);
-        takeRecord(op, start + kRecordHead, static_cast<std::size_t>(len),
-                   "cut chunk at offset " + std::to_string(at) + ", its record at " +
-                       std::to_string(start));
-      }
-    } catch (const FormatError&) {  // the record the cut goes through
+    } catch (const FormatError&) {  // not even the chunk's header
+      return;
     }
-    sortByTime();
+    takeRecords(0, batch_.size(), at, true);
   }
 
   bool nextIndexedChunk() {
-    std::vector<std::uint8_t> content;
+    std::vector<std::uint8_t>& content = content_;
     while (entries_.empty()) {
       if (next_chunk_ >= chunks_.size()) return false;
       const ChunkRef& c = chunks_[next_chunk_++];
@@ -272,7 +288,7 @@ class McapStream : public MessageStream {
         setFault(c.offset, "the summary's chunk index points at no chunk");
         return false;
       }
-      if (!takeBatch(c.offset, op, content)) return false;
+      if (!takeBatch(c.offset, op)) return false;
     }
     return true;
   }
@@ -291,7 +307,8 @@ class McapStream : public MessageStream {
   std::size_t next_chunk_ = 0;
   std::map<std::uint16_t, std::string> schemas_;
   std::map<std::uint16_t, Channel> channels_;
-  std::vector<std::uint8_t> batch_;  // the records of the chunk (or the record) being read
+  std::vector<std::uint8_t> batch_;    // the records of the chunk (or the record) being read
+  std::vector<std::uint8_t> content_;  // a record as read from the file
   std::vector<Entry> entries_;
   std::size_t entry_ = static_cast<std::size_t>(-1);
   std::string topic_, type_, fault_;
@@ -302,7 +319,7 @@ void McapStream::takeSummaryRecord(std::uint8_t op, Fields& f, std::uint64_t sum
     const std::size_t n = f.left();
     const std::uint8_t* p = f.take(n);
     batch_.assign(p, p + n);
-    takeRecord(op, 0, n, "summary");
+    takeRecord(op, 0, n, 0, kTopLevel);
     return;
   }
   if (op != kChunkIndex) return;

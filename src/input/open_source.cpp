@@ -5,8 +5,8 @@
 #include "dynamap/input/fixed_pose.h"
 #include "dynamap/input/mrpt_records.h"
 #include "dynamap/input/pose_file.h"
-#include "dynamap/input/ros2_bag.h"
 #include "dynamap/input/rawlog_source.h"
+#include "dynamap/input/ros2_bag.h"
 #include "dynamap/input/simplemap_source.h"
 
 namespace dynamap {

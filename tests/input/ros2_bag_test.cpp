@@ -183,7 +183,7 @@ TEST_F(Ros2BagTest, TheSameMessagesGiveTheSameBytes) {
   for (const char* name : {"a.mcap", "a.db3"}) {
     const std::string one = writeBag(std::string("1") + name, "zstd", 200);
     const std::string two = writeBag(std::string("2") + name, "zstd", 200);
-    EXPECT_EQ(test::readFile(one), test::readFile(two)) << name;
+    EXPECT_TRUE(test::readFile(one) == test::readFile(two)) << name;  // no bytes printed
   }
 }
 
