@@ -105,8 +105,10 @@ void simplemapInput(const std::uint8_t* data, std::size_t size) {
   mapFile(data, size, ".simplemap");
 }
 
-void bagInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = writeScratch(data, size, ".bag");
+namespace {
+
+/// A bag (ROS 1 or 2) mapped with the poses it offers, then with a fixed pose.
+void mapBag(const std::string& path) {
   const MapConfig config = fuzzMapConfig();
   for (const PoseSource poses : {PoseSource::Auto, PoseSource::Fixed}) {
     try {
@@ -118,6 +120,12 @@ void bagInput(const std::uint8_t* data, std::size_t size) {
     } catch (const std::exception&) {
     }
   }
+}
+
+}  // namespace
+
+void bagInput(const std::uint8_t* data, std::size_t size) {
+  mapBag(writeScratch(data, size, ".bag"));
 }
 
 namespace {
@@ -152,17 +160,7 @@ void decodeEvery(const std::string& path) {
 void ros2Input(const std::uint8_t* data, std::size_t size, const char* suffix) {
   const std::string path = writeScratch(data, size, suffix);
   decodeEvery(path);
-  const MapConfig config = fuzzMapConfig();
-  for (const PoseSource poses : {PoseSource::Auto, PoseSource::Fixed}) {
-    try {
-      InputOptions options;
-      options.poses = poses;
-      auto source = openScanSource(path, options);
-      Mapper mapper(config);
-      drain(*source, &mapper);
-    } catch (const std::exception&) {
-    }
-  }
+  mapBag(path);
 }
 
 }  // namespace

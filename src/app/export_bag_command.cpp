@@ -6,6 +6,7 @@
 
 #include <boost/program_options.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -162,7 +163,13 @@ ExportCounts exportScans(ScanSource& source, ros2::BagWriter& bag) {
   const std::string fixed = gt ? "map" : "odom";
   const bool posed = source.poseSource() != PoseSource::Fixed;
   std::map<std::tuple<double, double, double>, std::string> mounts;
-  const auto ns = [](double t) { return static_cast<std::uint64_t>(stamp(t).toNSec()); };
+  // A recorder's time only goes forward: a scan stamped before the one before it (Intel has 4)
+  // is recorded at the same time as that one, so the bag keeps the log's order.
+  std::uint64_t recorded = 0;
+  const auto ns = [&recorded](double t) {
+    recorded = std::max(recorded, static_cast<std::uint64_t>(stamp(t).toNSec()));
+    return recorded;
+  };
   ExportCounts n;
   ScanRecord r;
   while (source.next(r)) {

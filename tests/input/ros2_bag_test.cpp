@@ -272,6 +272,44 @@ TEST_F(Ros2BagTest, Db3MessagesComeInTimeOrderWhateverOrderTheyWereWritten) {
   for (std::size_t k = 0; k < 5; ++k) EXPECT_NEAR(scans[k].odometry->x(), k / 10.0, 1e-9);
 }
 
+/// The quirks of real recordings: /tf_static latched again by every late subscriber (QoS
+/// transient local), scans recorded before the first /tf, a header stamp earlier than the one
+/// before it.
+TEST_F(Ros2BagTest, DuplicatedTfStaticEarlyScansAndStampsGoingBackAreReadAsTheyMean) {
+  {
+    ros2::BagWriter bag(path("quirks.mcap"), "zstd");
+    const auto ns = [](double t) { return static_cast<std::uint64_t>(ros::Time(t).toNSec()); };
+    // Five scans first, their /tf after them (a recorder subscribing to /tf late).
+    for (int k = 0; k < 5; ++k) {
+      bag.write("/scan", "sensor_msgs/msg/LaserScan", ns(100 + k / 10.0),
+                ros2::encode(laserScan(100 + k / 10.0, 5)));
+    }
+    for (int copy = 0; copy < 3; ++copy) {  // /tf_static three times, as late joiners get it
+      bag.write("/tf_static", "tf2_msgs/msg/TFMessage", ns(100.45),
+                ros2::encode(transform(100, "base_link", "laser", CPose2D(0.2, 0, 0))));
+    }
+    for (int k = 0; k < 10; ++k) {
+      const double t = 100 + k / 10.0;
+      bag.write("/tf", "tf2_msgs/msg/TFMessage", ns(100.45),
+                ros2::encode(transform(t, "odom", "base_link", CPose2D(k / 10.0, 0, 0))));
+    }
+    // A scan stamped 0.25 s before the scan recorded before it.
+    bag.write("/scan", "sensor_msgs/msg/LaserScan", ns(100.5),
+              ros2::encode(laserScan(100.8, 5)));
+    bag.write("/scan", "sensor_msgs/msg/LaserScan", ns(100.6),
+              ros2::encode(laserScan(100.55, 5)));
+  }
+  const auto scans = readScans(path("quirks.mcap"));
+  ASSERT_EQ(scans.size(), 7u);
+  for (std::size_t k = 0; k < 5; ++k) {
+    ASSERT_TRUE(scans[k].odometry);
+    EXPECT_NEAR(scans[k].odometry->x(), k / 10.0, 1e-9);
+    EXPECT_NEAR(scans[k].scan->sensorPose.x(), 0.2, 1e-12);
+  }
+  EXPECT_NEAR(scans[5].odometry->x(), 0.8, 1e-9);
+  EXPECT_NEAR(scans[6].odometry->x(), 0.55, 1e-9);  // interpolated at its own stamp
+}
+
 TEST_F(Ros2BagTest, FilesThatAreNoRos2BagAreInputErrorsNamingThem) {
   std::ofstream(path("text.db3")) << "not a bag";
   EXPECT_FALSE(ros2::looksLikeRos2Bag(path("text.db3")));
