@@ -14,7 +14,11 @@ namespace {
 
 void unzstd(const std::uint8_t* p, std::size_t n, std::size_t size,
             std::vector<std::uint8_t>& out) {
-  const std::size_t got = ZSTD_decompress(out.data(), out.size(), p, n);
+  // One context per thread, kept: ZSTD_decompress would make (and zero) a new one per chunk.
+  static thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(),
+                                                                               &ZSTD_freeDCtx);
+  if (!ctx) throw FormatError("no zstd decompression context");
+  const std::size_t got = ZSTD_decompressDCtx(ctx.get(), out.data(), out.size(), p, n);
   if (ZSTD_isError(got)) {
     throw FormatError(std::string("zstd data cannot be decompressed: ") + ZSTD_getErrorName(got));
   }
