@@ -32,10 +32,11 @@
 #                with odometry, scan matching and slam, each scored by its consistency
 
 # ROS 1's rosbag and the messages dynamap reads from a bag (a build with -DDYNAMAP_ROSBAG=OFF
-# needs none of them). Debian's rosbag headers include the ROS 2 pluginlib, hence the last five.
+# needs none of them). Debian's rosbag headers include the ROS 2 pluginlib, hence the next five;
+# ROS 2 bags (MCAP, .db3) take the last four: Fast-CDR, zstd and LZ4 chunks, SQLite.
 ROSBAG_PACKAGES := librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev \
   libgeometry-msgs-dev pluginlib-dev libclass-loader-dev librcpputils-dev librcutils-dev \
-  libament-index-cpp-dev
+  libament-index-cpp-dev libfastcdr-dev libzstd-dev liblz4-dev libsqlite3-dev
 
 # Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
 # keep the install well below the whole libmrpt-dev metapackage; mrpt-common brings MRPT's own
@@ -104,9 +105,14 @@ MALAGA := /usr/share/mrpt/datasets/malaga-cs-fac-building.simplemap.gz
 BENCH_READS ?= $(BENCH_INPUT) rawlogs/people/people.rawlog $(wildcard $(MALAGA)) \
   fuzz/seeds/bag/small.bag
 
+# The bench log is read once more as a ROS 2 bag (MCAP, zstd chunks) that export-bag writes.
+BENCH_MCAP := $(BUILD_DIR)/bench-input.mcap
+
 bench: build
 	@[ -f "$(FREIBURG)" ] || echo "dynamap: $(FREIBURG) not found, benchmarking the bundled corridors rawlog"
-	$(BUILD_DIR)/dynamap_bench --input $(BENCH_INPUT) $(BENCH_ARGS) $(addprefix --read ,$(BENCH_READS))
+	$(DYNAMAP) export-bag $(BENCH_INPUT) --out $(BENCH_MCAP) --compression zstd > /dev/null
+	$(BUILD_DIR)/dynamap_bench --input $(BENCH_INPUT) $(BENCH_ARGS) $(addprefix --read ,$(BENCH_READS)) \
+	  --read $(BENCH_MCAP)
 	@[ ! -f "$(MALAGA)" ] || $(BUILD_DIR)/dynamap_bench --input $(MALAGA) $(BENCH_ARGS)
 	$(BUILD_DIR)/dynamap_bench_startup --dynamap $(DYNAMAP) --input rawlogs/tiny/tiny.rawlog \
 	  --config config/default.ini
@@ -209,14 +215,15 @@ test-asan: deps
 
 # libFuzzer targets (clang only; `make test` never needs clang). Each runs FUZZ_SECONDS from a
 # corpus in build-fuzz/corpus/<target>/ seeded with fuzz/seeds/<target>/ and keeps growing it
-# between runs (inputs up to 16 KB; 64 KB for bags, whose message definitions alone take 10 KB).
+# between runs (inputs up to 16 KB; 64 KB for bags, whose message definitions alone take 10 KB,
+# and for ROS 2 bags, whose SQLite pages take 4 KB each).
 # Run longer with FUZZ_SECONDS=3600 make fuzz, or one target directly:
 #   build-fuzz/fuzz_rawlog -max_total_time=3600 build-fuzz/corpus/rawlog fuzz/seeds/rawlog
 # A crash leaves its input in build-fuzz/crashes/; fix it, then keep the input in
 # tests/fuzz_regressions/<target>/ (faults_test replays every file there).
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := scenario carmen rawlog simplemap bag baseline config
+FUZZ_TARGETS := scenario carmen rawlog simplemap bag mcap db3 baseline config
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 fuzz-deps: deps
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(FUZZ_PACKAGES)"
@@ -228,7 +235,7 @@ fuzz: fuzz-deps
 	@for t in $(FUZZ_TARGETS); do \
 	  mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/crashes/$$t; \
 	  echo "dynamap: fuzzing $$t for $(FUZZ_SECONDS) s"; \
-	  len=16384; [ $$t = bag ] && len=65536; \
+	  len=16384; case $$t in bag|mcap|db3) len=65536;; esac; \
 	  $(SANITIZER_ENV) $(FUZZ_DIR)/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -max_len=$$len \
 	    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
 	    -artifact_prefix=$(FUZZ_DIR)/crashes/$$t/ $(FUZZ_DIR)/corpus/$$t fuzz/seeds/$$t \

@@ -15,6 +15,11 @@
 #include "dynamap/pipeline/mapper.h"
 #include "dynamap/sim/scenario.h"
 
+#ifdef DYNAMAP_HAVE_ROSBAG
+#include "dynamap/input/cdr_messages.h"
+#include "dynamap/input/ros2_bag.h"
+#endif
+
 namespace dynamap::fuzz {
 namespace {
 
@@ -100,8 +105,10 @@ void simplemapInput(const std::uint8_t* data, std::size_t size) {
   mapFile(data, size, ".simplemap");
 }
 
-void bagInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = writeScratch(data, size, ".bag");
+namespace {
+
+/// A bag (ROS 1 or 2) mapped with the poses it offers, then with a fixed pose.
+void mapBag(const std::string& path) {
   const MapConfig config = fuzzMapConfig();
   for (const PoseSource poses : {PoseSource::Auto, PoseSource::Fixed}) {
     try {
@@ -113,6 +120,57 @@ void bagInput(const std::uint8_t* data, std::size_t size) {
     } catch (const std::exception&) {
     }
   }
+}
+
+}  // namespace
+
+void bagInput(const std::uint8_t* data, std::size_t size) {
+  mapBag(writeScratch(data, size, ".bag"));
+}
+
+namespace {
+
+/// Every message of a ROS 2 bag decoded as each type (most are not: decode says why).
+void decodeEvery(const std::string& path) {
+#ifdef DYNAMAP_HAVE_ROSBAG
+  try {
+    auto stream = ros2::openRos2Bag(path, {});
+    stream->topics();
+    stream = ros2::openRos2Bag(path, {});
+    while (stream->next()) {
+      sensor_msgs::LaserScan scan;
+      tf2_msgs::TFMessage tf;
+      nav_msgs::Odometry odom;
+      for (int i = 0; i < 3; ++i) {
+        try {
+          if (i == 0) ros2::decode(stream->data(), stream->size(), scan);
+          if (i == 1) ros2::decode(stream->data(), stream->size(), tf);
+          if (i == 2) ros2::decode(stream->data(), stream->size(), odom);
+        } catch (const std::runtime_error&) {
+        }
+      }
+    }
+  } catch (const std::exception&) {
+  }
+#else
+  (void)path;
+#endif
+}
+
+void ros2Input(const std::uint8_t* data, std::size_t size, const char* suffix) {
+  const std::string path = writeScratch(data, size, suffix);
+  decodeEvery(path);
+  mapBag(path);
+}
+
+}  // namespace
+
+void mcapInput(const std::uint8_t* data, std::size_t size) {
+  ros2Input(data, size, ".mcap");
+}
+
+void db3Input(const std::uint8_t* data, std::size_t size) {
+  ros2Input(data, size, ".db3");
 }
 
 void baselineInput(const std::uint8_t* data, std::size_t size) {

@@ -21,6 +21,10 @@ void simplemapInput(const std::uint8_t* data, std::size_t size);
 /// A ROS bag read by openScanSource to its end, with the poses it offers and with a fixed pose,
 /// every scan through the mapper (rosbag's index, or the salvage of a bag without one).
 void bagInput(const std::uint8_t* data, std::size_t size);
+/// A ROS 2 MCAP file, and a rosbag2 .db3 file: as bagInput, and every message of the raw stream
+/// decoded as each of the three message types dynamap reads (ros2_bag.h, cdr_messages.h).
+void mcapInput(const std::uint8_t* data, std::size_t size);
+void db3Input(const std::uint8_t* data, std::size_t size);
 
 /// A log of any format (told by content, as `dynamap map` does) mapped with the plain MRPT
 /// comparison grid beside the mapper: each scan the mapper inserted goes into the baseline at

@@ -25,6 +25,7 @@ int runMap(const Args& args);
 int runSimulate(const Args& args);
 int runImportCarmen(const Args& args);
 int runImportBag(const Args& args);
+int runExportBag(const Args& args);
 int runEval(const Args& args);
 int runConfig(const Args& args);
 int runPerturb(const Args& args);

@@ -101,7 +101,8 @@ std::vector<LegTrainingScan> readLegTrainingBag(const std::string& path,
       }
     }
   } catch (const std::exception& e) {
-    throw std::runtime_error(path + ": message after scan " + std::to_string(index) + ": " + e.what());
+    throw std::runtime_error(path + ": message after scan " + std::to_string(index) + ": " +
+                             e.what());
   }
   return out;
 }
@@ -115,8 +116,8 @@ std::vector<PersonTruth> readPersonTruthBag(const std::string& path, const std::
   std::vector<PersonTruth> out;
   std::size_t scans = 0, messages = 0;
   try {
-    for (const rosbag::MessageInstance& m :
-         rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{scan_topic, person_topic}))) {
+    for (const rosbag::MessageInstance& m : rosbag::View(
+             bag, rosbag::TopicQuery(std::vector<std::string>{scan_topic, person_topic}))) {
       if (m.getTopic() == scan_topic) {
         ++scans;
         continue;
@@ -129,7 +130,9 @@ std::vector<PersonTruth> readPersonTruthBag(const std::string& path, const std::
       if (scans == 0) continue;
       std::uint32_t id = 0;
       std::memcpy(&id, b.data() + 56, sizeof id);
-      out.push_back({scans - 1, m.getTime().toSec(), static_cast<int>(id),
+      out.push_back({scans - 1,
+                     m.getTime().toSec(),
+                     static_cast<int>(id),
                      {float64At(b, 0), float64At(b, 8)}});
     }
   } catch (const std::exception& e) {

@@ -1,6 +1,7 @@
 #include "dynamap/input/bag_source.h"
 
 #include <mrpt/core/Clock.h>
+#include <mrpt/math/TPose2D.h>
 #include <mrpt/poses/CPose3D.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/header.h>
@@ -10,6 +11,7 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_msgs/TFMessage.h>
+#include <boost/make_shared.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -22,6 +24,8 @@
 #include "bag_salvage.h"
 #include "dynamap/base/allocation_limit.h"
 #include "dynamap/base/pose_track.h"
+#include "dynamap/input/cdr_messages.h"
+#include "dynamap/input/ros2_bag.h"
 
 namespace dynamap {
 namespace {
@@ -55,7 +59,9 @@ double yawOf(const geometry_msgs::Quaternion& q) {
 std::optional<CPose2D> pose2D(double x, double y, const geometry_msgs::Quaternion& q) {
   const double yaw = yawOf(q);
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(yaw)) return std::nullopt;
-  return CPose2D(x, y, yaw);
+  // From a TPose2D: CPose2D(x, y, phi) wraps phi again, which moves a yaw atan2 gave by ~1e-17
+  // (the CARMEN reader's poses are made the same way: a log's pose crosses a bag unchanged).
+  return CPose2D(mrpt::math::TPose2D(x, y, yaw));
 }
 
 /// A 2D tf tree: each child frame's pose in its parent, static or a timed track.
@@ -103,7 +109,9 @@ class TfTree {
     if (a != Lookup::kFound) return a;
     const Lookup b = poseIn(target, *common, t, complete, in_common_t);
     if (b != Lookup::kFound) return b;
-    out = in_common_s - in_common_t;
+    // Composing with an identity is not exact in MRPT (p + 0 moves phi by ~1e-13): a pose in
+    // the target frame itself, the usual case, is taken as it is.
+    out = *common == target ? in_common_s : in_common_s - in_common_t;
     return Lookup::kFound;
   }
 
@@ -148,7 +156,7 @@ class TfTree {
         const Lookup r = e.track.at(t, p, complete);
         if (r != Lookup::kFound) return r;
       }
-      out = p + out;
+      out = f == frame ? p : p + out;  // the first edge as it is (see lookup)
       f = e.parent;
     }
     return Lookup::kFound;
@@ -215,9 +223,12 @@ class MessageCursor {
         size_(view_->size()) {}
   MessageCursor(const std::string& path, const std::vector<std::string>& topics)
       : salvage_(std::make_unique<bag::BagSalvage>(path)), topics_(topics) {}
+  /// A ROS 2 bag: the stream hands out CDR bytes, decoded here into the ROS 1 messages.
+  explicit MessageCursor(std::unique_ptr<ros2::MessageStream> stream) : ros2_(std::move(stream)) {}
 
   /// Moves to the next message (the first, on the first call); false at the end.
   bool next() {
+    if (ros2_) return ros2_->next();
     if (salvage_) {
       while (salvage_->next()) {
         if (topics_.empty() || std::count(topics_.begin(), topics_.end(), salvage_->topic())) {
@@ -234,18 +245,28 @@ class MessageCursor {
     done_ += 1;
     return it_ != view_->end();
   }
-  const std::string& topic() const { return salvage_ ? salvage_->topic() : it_->getTopic(); }
-  double time() const { return salvage_ ? salvage_->time() : it_->getTime().toSec(); }
+  const std::string& topic() const {
+    return ros2_ ? ros2_->topic() : salvage_ ? salvage_->topic() : it_->getTopic();
+  }
+  double time() const {
+    if (ros2_) return static_cast<double>(ros2_->timeNs()) * 1e-9;
+    return salvage_ ? salvage_->time() : it_->getTime().toSec();
+  }
+  /// The message as T; null when it is of another type. Throws when its bytes are not a T.
   template <class T>
   boost::shared_ptr<T> as() const {
+    if (ros2_) return decoded<T>();
     return salvage_ ? salvage_->as<T>() : it_->instantiate<T>();
   }
+  /// ROS 2 only (a View reads only the topics asked for): the message's type.
+  std::string typeName() const { return ros2_ ? ros2_->type() : std::string(); }
   double fractionRead() const {
+    if (ros2_) return ros2_->fractionRead();
     if (salvage_) return salvage_->fractionRead();
     return size_ > 0 ? std::min(1.0, (done_ - 1) / size_) : 1.0;
   }
-  /// Salvage only: where and why the readable part ended, and the topics seen.
-  std::string fault() const { return salvage_ ? salvage_->fault() : ""; }
+  /// Salvage and ROS 2: where and why the readable part ended, and the topics seen.
+  std::string fault() const { return ros2_ ? ros2_->fault() : salvage_ ? salvage_->fault() : ""; }
   std::vector<std::pair<std::string, std::string>> salvagedTopics() const {
     return salvage_->topics();
   }
@@ -255,8 +276,23 @@ class MessageCursor {
   rosbag::View::iterator it_;
   double size_ = 0, done_ = 0;
   bool started_ = false;
+  template <class T>
+  boost::shared_ptr<T> decoded() const {
+    if (ros2::ros1TypeName(ros2_->type()) != ros::message_traits::DataType<T>::value()) {
+      return nullptr;
+    }
+    auto out = boost::make_shared<T>();
+    try {
+      ros2::decode(ros2_->data(), ros2_->size(), *out);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(ros2_->where() + ": " + e.what());
+    }
+    return out;
+  }
+
   std::unique_ptr<bag::BagSalvage> salvage_;
   std::vector<std::string> topics_;
+  std::unique_ptr<ros2::MessageStream> ros2_;
 };
 
 }  // namespace
@@ -277,6 +313,7 @@ struct BagReader::Impl {
   BagOptions options;
   rosbag::Bag bag;
   bool salvage = false;     // rosbag cannot open it: read what is left in file order
+  bool ros2 = false;        // a ROS 2 bag (ros2_bag.h): its own container, CDR messages
   std::string index_fault;  // why its index, there, cannot be followed ("" when there is none)
   BagContents contents;
   std::unique_ptr<MessageCursor> cursor;  // the scans, /tf and odometry
@@ -301,7 +338,12 @@ struct BagReader::Impl {
   void startView();
   void readMessage();
   std::string salvageFault() const;
+  /// A ROS 2 stream's fault without the leading "<path>: " fail() adds again.
+  std::string withoutPath(const std::string& f) const {
+    return f.rfind(path + ": ", 0) == 0 ? f.substr(path.size() + 2) : f;
+  }
   std::unique_ptr<MessageCursor> messages(const std::vector<std::string>& topics) {
+    if (ros2) return std::make_unique<MessageCursor>(ros2::openRos2Bag(path, topics));
     return salvage ? std::make_unique<MessageCursor>(path, topics)
                    : std::make_unique<MessageCursor>(bag, topics);
   }
@@ -315,6 +357,10 @@ struct BagReader::Impl {
 void BagReader::Impl::open() {
   // rosbag follows the index's offsets and the records' lengths without checking them: it opens
   // only a bag whose every offset and length has been checked (bag_index_check.h).
+  if (!looksLikeRosBag(path) && ros2::looksLikeRos2Bag(path)) {
+    ros2 = true;
+    return;
+  }
   if (looksLikeRosBag(path)) {
     const bag::IndexCheck check = bag::checkBagIndex(path);
     if (check.verdict != bag::IndexCheck::Verdict::kSound) {
@@ -341,14 +387,22 @@ void BagReader::Impl::open() {
 
 bool BagReader::Impl::topicExists(const std::string& topic, const char* type) const {
   for (const auto& [name, t] : contents.topics) {
-    if (name == topic && t == type) return true;
+    if (name == topic && ros2::ros1TypeName(t) == type) return true;
   }
   return false;
 }
 
 void BagReader::Impl::findTopics() {
   std::set<std::pair<std::string, std::string>> seen;
-  if (salvage) {
+  if (ros2) {
+    auto all = ros2::openRos2Bag(path, {});
+    const ros2::TopicList topics = all->topics();
+    seen.insert(topics.begin(), topics.end());
+    if (seen.empty()) {
+      fail("no topic in the ROS 2 bag" +
+           (all->fault().empty() ? std::string() : " (" + withoutPath(all->fault()) + ")"));
+    }
+  } else if (salvage) {
     MessageCursor all(path, {});
     while (all.next()) {
     }
@@ -368,7 +422,7 @@ void BagReader::Impl::findTopics() {
   contents.topics.assign(seen.begin(), seen.end());
   std::vector<std::string> scans;
   for (const auto& [topic, type] : contents.topics) {
-    if (type == kLaserScanType) scans.push_back(topic);
+    if (ros2::ros1TypeName(type) == kLaserScanType) scans.push_back(topic);
   }
   if (!options.scan_topic.empty()) {
     if (!topicExists(options.scan_topic, kLaserScanType)) {
@@ -434,6 +488,10 @@ void BagReader::Impl::peekTf() {
 }
 
 void BagReader::Impl::startView() {
+  if (ros2) {  // every topic: the messages not read are counted
+    cursor = messages({});
+    return;
+  }
   std::vector<std::string> topics = kTfTopics;
   topics.push_back(contents.scan_topic);
   if (!options.odom_topic.empty()) topics.push_back(options.odom_topic);
@@ -464,6 +522,7 @@ void BagReader::Impl::readMessage() {
     if (!cursor->next()) {
       eof = true;
       if (salvage) fault = salvageFault();
+      if (ros2) fault = withoutPath(cursor->fault());
       return;
     }
     const MessageCursor& m = *cursor;
@@ -478,8 +537,10 @@ void BagReader::Impl::readMessage() {
         if (pose) odom.add(t, *pose);
         if (pose) stream_t = std::max(stream_t, t);
       }
-    } else if (auto tf = m.as<tf2_msgs::TFMessage>()) {
-      takeTf(*tf, false);
+    } else if (std::count(kTfTopics.begin(), kTfTopics.end(), m.topic())) {
+      if (auto tf = m.as<tf2_msgs::TFMessage>()) takeTf(*tf, false);
+    } else if (!std::count(kTfStaticTopics.begin(), kTfStaticTopics.end(), m.topic())) {
+      ++stats.skipped[m.typeName() + " on " + m.topic() + ", not read"];
     }
   } catch (const std::bad_alloc&) {
     eof = true;

@@ -270,8 +270,7 @@ bool plainDecimal(const char* p, const char* end, double& v) {
     if (fraction >= 0) ++fraction;
   }
   if (count == 0) return false;
-  const double magnitude =
-      static_cast<double>(digits) / kPow10[fraction < 0 ? 0 : fraction];
+  const double magnitude = static_cast<double>(digits) / kPow10[fraction < 0 ? 0 : fraction];
   v = negative ? -magnitude : magnitude;
   return true;
 }

@@ -6,6 +6,7 @@
 #include "dynamap/input/mrpt_records.h"
 #include "dynamap/input/pose_file.h"
 #include "dynamap/input/rawlog_source.h"
+#include "dynamap/input/ros2_bag.h"
 #include "dynamap/input/simplemap_source.h"
 
 namespace dynamap {
@@ -70,10 +71,15 @@ std::unique_ptr<ScanSource> openMrptLog(const std::string& path, PoseSource sour
   return openRawlogSource(path, source, track);
 }
 
+/// A ROS 1 bag, or a ROS 2 bag (an MCAP file, a .db3 file, a rosbag2 folder).
+bool isBag(const std::string& path) {
+  return looksLikeRosBag(path) || ros2::looksLikeRos2Bag(path);
+}
+
 // Whether the log has odometry for scan matching to start each scan from. A CARMEN laser line
 // always carries its odometry.
 bool hasOdometry(const std::string& path, const InputOptions& options) {
-  if (looksLikeRosBag(path)) {
+  if (isBag(path)) {
 #ifdef DYNAMAP_HAVE_ROSBAG
     const BagContents c = BagReader(path, options.bag).contents();
     return c.odometry;
@@ -93,8 +99,11 @@ std::unique_ptr<ScanSource> openScanSource(const std::string& path, const InputO
   std::error_code ec;
   const auto st = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(st)) throw InputError(path + ": no such file");
-  if (std::filesystem::is_directory(st)) throw InputError(path + ": is a directory, not a log");
-  if (!std::filesystem::is_regular_file(st)) {
+  const bool bag = isBag(path);  // a rosbag2 folder is a directory
+  if (std::filesystem::is_directory(st) && !bag) {
+    throw InputError(path + ": is a directory, not a log (nor a rosbag2 folder)");
+  }
+  if (!std::filesystem::is_regular_file(st) && !bag) {
     throw InputError(path + ": not a regular file (a fifo, device or socket); give a log file");
   }
   PoseSource source = options.poses;
@@ -105,7 +114,7 @@ std::unique_ptr<ScanSource> openScanSource(const std::string& path, const InputO
   const bool slam = source == PoseSource::Slam;  // odometry, turned into poses by the pipeline
   if (slam) source = PoseSource::Odometry;
   std::unique_ptr<ScanSource> inner;
-  if (looksLikeRosBag(path)) {
+  if (bag) {
     inner = openBag(path, source, options.bag);
   } else if (looksLikeCarmen(path)) {
     CarmenOptions carmen = options.carmen;

@@ -543,7 +543,8 @@ TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
       {"scenario", fuzz::scenarioInput}, {"carmen", fuzz::carmenInput},
       {"rawlog", fuzz::rawlogInput},     {"simplemap", fuzz::simplemapInput},
       {"bag", fuzz::bagInput},           {"baseline", fuzz::baselineInput},
-      {"config", fuzz::configInput}};
+      {"config", fuzz::configInput},     {"mcap", fuzz::mcapInput},
+      {"db3", fuzz::db3Input}};
   std::size_t files = 0;
   for (const auto& [name, entry] : targets) {
     const fs::path dir = fs::path(kSrc) / "tests/fuzz_regressions" / name;
@@ -556,6 +557,31 @@ TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
     }
   }
   EXPECT_GE(files, 3u);  // at least one per target
+}
+
+// The ROS 2 seeds of make fuzz cut at 40 places and with 150 bytes flipped, one at a time:
+// whatever the readers make of them, the entry points return (a crash ends the test).
+TEST(FuzzRegressions, Ros2SeedsCutOrFlippedAreHandled) {
+  std::size_t runs = 0;
+  for (const char* seed : {"mcap/small.mcap", "mcap/small_none.mcap", "mcap/odometry.mcap",
+                           "db3/small.db3"}) {
+    const std::string clean = test::readFile(kSrc + "/fuzz/seeds/" + seed);
+    const bool mcap = std::string(seed).rfind("mcap/", 0) == 0;
+    const auto entry = mcap ? fuzz::mcapInput : fuzz::db3Input;
+    for (std::size_t k = 1; k <= 40; ++k) {
+      entry(reinterpret_cast<const std::uint8_t*>(clean.data()), clean.size() * k / 41);
+      ++runs;
+    }
+    std::uint32_t x = 12345;
+    for (int k = 0; k < 150; ++k) {
+      x = x * 1664525u + 1013904223u;  // the same flips on every run
+      std::string b = clean;
+      b[x % b.size()] = static_cast<char>(b[x % b.size()] ^ (1 << (x >> 29)));
+      entry(reinterpret_cast<const std::uint8_t*>(b.data()), b.size());
+      ++runs;
+    }
+  }
+  EXPECT_EQ(runs, 4u * 190u);
 }
 
 // make fuzz's rawlog mutator on its seed: it changes a record (dropped, repeated, swapped, a scan's
