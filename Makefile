@@ -2,9 +2,11 @@
 #
 #   make demo    install what is missing, build only the dynamap program, map the bundled rawlog,
 #                say where the pictures are
-#   make test    install what is missing, build, run every test (ctest)
+#   make test    install what is missing, build, run every test (ctest; the Python module's
+#                pytest files among them)
 #   make bench   install, build, time dynamap against plain MRPT grid insertion, then the fixed
-#                cost of a run and the whole odometry-only (slam) run
+#                cost of a run, the whole odometry-only (slam) run, and a fleet of 16 logs
+#                mapped one after another and as a batch on two local Dask workers
 #   make deps    only install the Debian packages below (when any is missing)
 #   make build   only configure and build (Release) into build/
 #   make format  apply .clang-format to every source file
@@ -41,13 +43,17 @@ ROSBAG_PACKAGES := librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-
 # Debian 12 packages the build, the tests and the demo need. MRPT's per-module -dev packages
 # keep the install well below the whole libmrpt-dev metapackage; mrpt-common brings MRPT's own
 # example logs, which the tests read (Malaga's simplemap); ffmpeg turns --frames-every frames
-# into timelapse.mp4, and the timelapse test needs it.
-DEB_PACKAGES := cmake g++ make \
+# into timelapse.mp4, and the timelapse test needs it. CORE_PACKAGES are what the dynamap
+# program needs (all `make demo` installs); PYTHON_PACKAGES the Python module (python/, built
+# when pybind11 is installed), its tests (pytest, pandas) and the fleet batch (Dask).
+PYTHON_PACKAGES := pybind11-dev python3-numpy python3-pytest python3-distributed python3-pandas
+CORE_PACKAGES := cmake g++ make \
   libmrpt-maps-dev libmrpt-obs-dev libmrpt-img-dev libmrpt-config-dev libmrpt-io-dev \
   libmrpt-serialization-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-slam-dev \
   libmrpt-graphslam-dev \
   libeigen3-dev libboost-program-options-dev libgtest-dev zlib1g-dev nlohmann-json3-dev \
   libopencv-ml-dev mrpt-common ffmpeg $(ROSBAG_PACKAGES)
+DEB_PACKAGES := $(CORE_PACKAGES) $(PYTHON_PACKAGES)
 
 BUILD_DIR ?= build
 BUILD_TYPE ?= Release
@@ -89,12 +95,19 @@ configure: deps $(BUILD_DIR)/CMakeCache.txt
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
-test: build
+# Configured again first: a build configured before pybind11 was installed gains the Python
+# module and its tests.
+test: configure
+	cmake -S . -B $(BUILD_DIR) > /dev/null
+	cmake --build $(BUILD_DIR) -j $(JOBS)
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
 # Only what the demo runs: the dynamap program (and the ICP module it loads), not the
-# tests and benchmarks, which take most of a full build.
-demo: configure
+# tests, benchmarks and Python module, which take most of a full build; and only the packages
+# the program needs.
+demo:
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(CORE_PACKAGES)"
+	@$(MAKE) --no-print-directory $(BUILD_DIR)/CMakeCache.txt
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target dynamap
 	$(DYNAMAP) map --config config/default.ini --input $(DEMO_INPUT) --out $(DEMO_OUT)
 	@echo "dynamap: done; pictures in $(DEMO_OUT)/: static.png (the static map S), dynamic.png (D), overlay.png"
@@ -108,6 +121,10 @@ BENCH_READS ?= $(BENCH_INPUT) rawlogs/people/people.rawlog $(wildcard $(MALAGA))
 # The bench log is read once more as a ROS 2 bag (MCAP, zstd chunks) that export-bag writes.
 BENCH_MCAP := $(BUILD_DIR)/bench-input.mcap
 
+# The fleet batch (bench/bench_batch.py): BENCH_BATCH_LOGS copies of bundled logs mapped one after
+# another, then on a local Dask cluster of two worker processes.
+BENCH_BATCH_LOGS ?= 16
+PYTHON := /usr/bin/python3
 bench: build
 	@[ -f "$(FREIBURG)" ] || echo "dynamap: $(FREIBURG) not found, benchmarking the bundled corridors rawlog"
 	$(DYNAMAP) export-bag $(BENCH_INPUT) --out $(BENCH_MCAP) --compression zstd > /dev/null
@@ -117,6 +134,10 @@ bench: build
 	$(BUILD_DIR)/dynamap_bench_startup --dynamap $(DYNAMAP) --input rawlogs/tiny/tiny.rawlog \
 	  --config config/default.ini
 	$(BUILD_DIR)/dynamap_bench_slam --dynamap $(DYNAMAP) --input $(SLAM_BENCH_INPUT)
+	@if ls $(BUILD_DIR)/python/dynamap/_core*.so >/dev/null 2>&1; then \
+	  PYTHONPATH=$(BUILD_DIR)/python $(PYTHON) bench/bench_batch.py --source-dir . \
+	    --count $(BENCH_BATCH_LOGS) --workers 2 --out out/bench-batch; \
+	else echo "dynamap: the Python module is not built (pybind11-dev), fleet batch not timed"; fi
 
 # The people detector's leg classifier (config/legs.yml.gz, built into dynamap as the same
 # trees laid out flat, config/legs.forest.gz): grown on

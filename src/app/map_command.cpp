@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "cli.h"
+#include "map_command.h"
 #include "dynamap/base/ini.h"
 #include "dynamap/base/printable.h"
 #include "dynamap/input/fixed_pose.h"
@@ -38,39 +39,6 @@ const char* const kUsage =
     "A ROS bag: sensor_msgs/LaserScan scans; odometry odom -> base_link from /tf (or\n"
     "nav_msgs/Odometry on --odom-topic), ground truth map -> base_link, the laser's mount\n"
     "base_link -> its frame from /tf_static; --poses fixed for a robot standing still.";
-
-// What the reader assumed, one line each; then one line for the records (lines, messages) that
-// were not scans, one for the scans skipped (by reason, as in summary.json), one for timestamps
-// that went backwards.
-void warnAboutSkips(const RunCounts& counts, const SourceStats& stats) {
-  for (const std::string& w : stats.warnings) {
-    std::cerr << "dynamap map: warning: " << printable(w) << "\n";
-  }
-  const auto list = [](const std::map<std::string, std::size_t>& reasons, std::size_t& total) {
-    std::string out;
-    for (const auto& kv : reasons) {
-      total += kv.second;
-      out += (out.empty() ? "" : ", ") + kv.first + " (" + std::to_string(kv.second) + ")";
-    }
-    return out;
-  };
-  std::size_t records = 0, scans = 0;
-  const std::string record_list = list(stats.skipped, records);
-  const std::string scan_list = list(counts.scans_skipped, scans);
-  if (records > 0) {
-    std::cerr << "dynamap map: warning: " << records << " " << stats.record_unit << " of "
-              << stats.records << " skipped: " << printable(record_list) << " (see summary.json)\n";
-  }
-  if (scans > 0) {
-    std::cerr << "dynamap map: warning: " << scans << " scans of " << stats.scans
-              << " skipped: " << printable(scan_list) << " (see summary.json)\n";
-  }
-  if (counts.time_backwards > 0) {
-    std::cerr << "dynamap map: warning: " << counts.time_backwards
-              << " scans have a timestamp earlier than the scan before them (first: scan "
-              << counts.first_backwards_index << ")\n";
-  }
-}
 
 // --poses and --fixed-pose over the configuration's [input].
 void applyPoseOptions(const po::variables_map& vm, MapConfig& config) {
@@ -131,7 +99,8 @@ po::options_description mapOptions() {
   return opts;
 }
 
-// The command line as a job; false after --help.
+}  // namespace
+
 bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
   const po::options_description opts = mapOptions();
   po::variables_map vm;
@@ -157,6 +126,8 @@ bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
   }
   return true;
 }
+
+namespace {
 
 // The summary lines of a run on a terminal (or with --verbose).
 void reportRun(const MapJob& job, const MapJobResult& r) {
@@ -200,6 +171,45 @@ void catchStopSignals() {
 
 }  // namespace
 
+// What the reader assumed, one line each; then one line for the records (lines, messages) that
+// were not scans, one for the scans skipped (by reason, as in summary.json), one for timestamps
+// that went backwards; last the fault the input ended in.
+std::vector<std::string> mapWarnings(const MapJobResult& r) {
+  std::vector<std::string> lines;
+  for (const std::string& w : r.source_stats.warnings) lines.push_back(printable(w));
+  const auto list = [](const std::map<std::string, std::size_t>& reasons, std::size_t& total) {
+    std::string out;
+    for (const auto& kv : reasons) {
+      total += kv.second;
+      out += (out.empty() ? "" : ", ") + kv.first + " (" + std::to_string(kv.second) + ")";
+    }
+    return out;
+  };
+  std::size_t records = 0, scans = 0;
+  const std::string record_list = list(r.source_stats.skipped, records);
+  const std::string scan_list = list(r.counts.scans_skipped, scans);
+  const auto n = [](std::size_t v) { return std::to_string(v); };
+  if (records > 0) {
+    lines.push_back(n(records) + " " + r.source_stats.record_unit + " of " +
+                    n(r.source_stats.records) + " skipped: " + printable(record_list) +
+                    " (see summary.json)");
+  }
+  if (scans > 0) {
+    lines.push_back(n(scans) + " scans of " + n(r.source_stats.scans) +
+                    " skipped: " + printable(scan_list) + " (see summary.json)");
+  }
+  if (r.counts.time_backwards > 0) {
+    lines.push_back(n(r.counts.time_backwards) +
+                    " scans have a timestamp earlier than the scan before them (first: scan " +
+                    n(r.counts.first_backwards_index) + ")");
+  }
+  if (!r.outcome.fault.empty()) {
+    lines.push_back("input ended in a fault, outputs cover the scans before it: " +
+                    printable(r.outcome.fault));
+  }
+  return lines;
+}
+
 int runMap(const Args& args) {
   MapJob job;
   bool verbose = false;
@@ -230,14 +240,8 @@ int runMap(const Args& args) {
               << (r.pose_detail.empty() ? "" : " (" + r.pose_detail + ")") << "\n";
   }
   if (verbose || stderrIsTerminal()) reportRun(job, r);
-  warnAboutSkips(r.counts, r.source_stats);
-  if (!r.outcome.fault.empty()) {
-    std::cerr << "dynamap map: warning: input ended in a fault, outputs cover the scans before "
-                 "it: "
-              << printable(r.outcome.fault) << "\n";
-    return kExitPartialInput;
-  }
-  return kExitOk;
+  for (const std::string& w : mapWarnings(r)) std::cerr << "dynamap map: warning: " << w << "\n";
+  return r.outcome.fault.empty() ? kExitOk : kExitPartialInput;
 }
 
 }  // namespace dynamap::app

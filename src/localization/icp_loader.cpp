@@ -27,12 +27,24 @@ std::string executableDir() {
   return slash == std::string::npos ? "" : path.substr(0, slash + 1);
 }
 
-// Beside the executable first, then (installed) ../lib/dynamap/, then the loader's own search.
+// The directory of the shared object holding this code ("" if it is the executable): the
+// Python module, run by an interpreter that lives elsewhere, has the module built beside it.
+std::string libraryDir() {
+  Dl_info info{};
+  if (::dladdr(reinterpret_cast<void*>(&executableDir), &info) == 0 || info.dli_fname == nullptr)
+    return "";
+  const std::string path = info.dli_fname;
+  const auto slash = path.rfind('/');
+  return slash == std::string::npos ? "" : path.substr(0, slash + 1);
+}
+
+// Beside the executable first, then (installed) ../lib/dynamap/, then beside the shared object
+// holding this code, then the loader's own search.
 AlignFn loadAlign() {
   const std::string dir = executableDir();
   std::string errors;
-  for (const std::string& candidate :
-       {dir + kModule, dir + "../lib/dynamap/" + kModule, std::string(kModule)}) {
+  for (const std::string& candidate : {dir + kModule, dir + "../lib/dynamap/" + kModule,
+                                       libraryDir() + kModule, std::string(kModule)}) {
     void* handle = ::dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (handle == nullptr) {
       const char* e = ::dlerror();

@@ -147,6 +147,7 @@ MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   if (slam && r.outcome.fault.empty()) r.outcome.fault = slam->outcome.fault;  // pass 1 ended there
   r.baseline_wall_s = std::chrono::duration<double>(w.baseline_time).count();
   r.wall_s = secondsSince(start) - r.baseline_wall_s;
+  if (job.on_mapped) job.on_mapped(mapper);
   writeMapOutputs(
       dir, mapper, *source,
       {job.input, r.wall_s, r.outcome, w.baseline.get(), r.baseline_wall_s, slam.get()});

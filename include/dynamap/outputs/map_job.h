@@ -43,6 +43,9 @@ struct MapJob {
   /// Asked after every scan and before the outputs are committed (e.g. a signal came): true
   /// ends the run with RunCancelled, the output directory as it was. May be empty.
   std::function<bool()> cancelled;
+  /// Called once every scan is mapped, before the outputs are written, with the mapper whose
+  /// maps and tables they are written from (e.g. to copy S and D into memory). May be empty.
+  std::function<void(const Mapper&)> on_mapped;
 };
 
 struct MapJobResult {
