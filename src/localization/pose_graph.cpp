@@ -6,7 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iterator>
+#include <limits>
+#include <queue>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -72,6 +75,35 @@ void PoseGraph::addEdge(const PoseEdge& edge) {
     throw std::out_of_range("pose graph edge between unknown nodes");
   }
   edges_.push_back(edge);
+}
+
+std::vector<double> PoseGraph::pathThroughLoops(const std::vector<double>& path,
+                                                std::size_t from) const {
+  const std::size_t n = poses_.size();
+  if (from >= n || path.size() != n) throw std::out_of_range("pathThroughLoops: bad node or path");
+  std::vector<std::vector<std::size_t>> jumps(n);
+  for (const PoseEdge& e : edges_) {
+    if (e.kind != EdgeKind::LoopClosure || !e.active) continue;
+    jumps[e.from].push_back(e.to);
+    jumps[e.to].push_back(e.from);
+  }
+  std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  dist[from] = 0;
+  open.emplace(0.0, from);
+  while (!open.empty()) {
+    const auto [d, k] = open.top();
+    open.pop();
+    if (d > dist[k]) continue;
+    auto relax = [&](std::size_t m, double w) {
+      if (d + w < dist[m]) dist[m] = d + w, open.emplace(d + w, m);
+    };
+    if (k > 0) relax(k - 1, std::abs(path[k] - path[k - 1]));
+    if (k + 1 < n) relax(k + 1, std::abs(path[k + 1] - path[k]));
+    for (std::size_t m : jumps[k]) relax(m, 0.0);
+  }
+  return dist;
 }
 
 double PoseGraph::edgeError(const PoseEdge& e) const {

@@ -80,6 +80,11 @@ std::vector<Option<O>> loopRows() {
        "runner-up / best above this: ambiguous"},
       {"loop_ambiguity_m", &O::loop_ambiguity_m, Range::openClosed(0, 20), "m",
        "runner-ups this far from the best count"},
+      {"loop_window_graph", &O::loop_window_graph, Range{}, "",
+       "the window grows with the path between the scan and the submap through the graph "
+       "(across loop closures), not with the path since the last loop closure"},
+      {"loop_optimise_m", &O::loop_optimise_m, Range::closed(0, 1000), "m",
+       "a loop closure this far from the estimate is optimised at once (0: off)"},
       {"optimise_every_nodes", &O::optimise_every_nodes, Range::closed(1, 1000000), "",
        "nodes between optimisations (new loops)"},
       {"max_iterations", &O::max_iterations, Range::closed(1, 10000), "",
@@ -252,18 +257,28 @@ void Slam::searchLoops(const std::vector<mrpt::math::TPoint2D>& pts) {
   if (near.size() > static_cast<std::size_t>(o_.loop_max_candidates)) {
     near.resize(static_cast<std::size_t>(o_.loop_max_candidates));
   }
+  // The pose is as uncertain as the path since the last loop closure, or since the submap; or,
+  // with loop_window_graph, as the path between the two through the graph: a loop closure with
+  // a submap just behind says nothing of the error relative to one a building's loop back.
+  std::vector<double> apart;
+  if (o_.loop_window_graph && !near.empty()) apart = graph_.pathThroughLoops(path_, i);
+  bool optimise_now = false;
   for (const auto& [d, s] : near) {
-    // The pose is as uncertain as the path since the last loop closure, or since the submap.
-    const double uncertain = std::min(here - last_closure_path_, here - path_[s->lastNode()]);
-    if (tryLoop(*s, pts, uncertain)) {
+    const double uncertain = o_.loop_window_graph
+                                 ? apart[s->anchor()]
+                                 : std::min(here - last_closure_path_, here - path_[s->lastNode()]);
+    double moved = 0;
+    if (tryLoop(*s, pts, uncertain, moved)) {
       last_closure_path_ = here;
       pending_loops_ = true;
+      optimise_now = optimise_now || (o_.loop_optimise_m > 0 && moved > o_.loop_optimise_m);
     }
   }
+  if (optimise_now) optimise();
 }
 
 bool Slam::tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts,
-                   double uncertain_m) {
+                   double uncertain_m, double& moved_m) {
   ++stats_.loop_attempts;
   const std::size_t i = graph_.size() - 1;
   const mrpt::poses::CPose2D guess = graph_.pose(i) - graph_.pose(s.anchor());
@@ -285,6 +300,7 @@ bool Slam::tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts
     ++stats_.loops_ambiguous;
     return false;
   }
+  moved_m = std::hypot(fine.pose.x() - guess.x(), fine.pose.y() - guess.y());
   graph_.addEdge({s.anchor(), i, fine.pose,
                   diagonalInformation(o_.loop_sigma_m, o_.loop_sigma_deg * kDegToRad),
                   EdgeKind::LoopClosure});

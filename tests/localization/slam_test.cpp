@@ -67,6 +67,37 @@ TEST(PoseGraph, AFalseLoopClosureIsRejectedAndDoesNotBendTheChain) {
   for (int i = 0; i <= 20; ++i) EXPECT_NEAR(g.pose(i).x(), i, 1e-6) << i;
 }
 
+// A chain of 6 nodes 1 m apart and a loop closure from node 5 back to node 1: node 0 lies 1 m
+// from node 5 through the graph (across the closure), node 3 2 m; a closure the gate has
+// switched off is no short cut.
+TEST(PoseGraph, ThePathThroughTheGraphCrossesActiveLoopClosuresOnly) {
+  PoseGraph g;
+  std::vector<double> path;
+  for (int i = 0; i <= 5; ++i) g.addNode({double(i), 0, 0}), path.push_back(i);
+  for (std::size_t i = 0; i < 5; ++i) {
+    g.addEdge({i, i + 1, {1, 0, 0}, info(0.02, 0.005), EdgeKind::Odometry});
+  }
+  g.addEdge({1, 5, {0, 0, 0}, info(0.05, 0.02), EdgeKind::LoopClosure});
+  const std::vector<double> d = g.pathThroughLoops(path, 5);
+  ASSERT_EQ(d.size(), 6u);
+  EXPECT_DOUBLE_EQ(d[5], 0.0);
+  EXPECT_DOUBLE_EQ(d[1], 0.0);
+  EXPECT_DOUBLE_EQ(d[0], 1.0);
+  EXPECT_DOUBLE_EQ(d[3], 2.0);
+  EXPECT_DOUBLE_EQ(d[4], 1.0);
+  PoseGraph chain;
+  for (int i = 0; i <= 5; ++i) chain.addNode({double(i), 0, 0});
+  for (std::size_t i = 0; i < 5; ++i) {
+    chain.addEdge({i, i + 1, {1, 0, 0}, info(0.02, 0.005), EdgeKind::Odometry});
+  }
+  PoseEdge off{0, 5, {0, 0, 0}, info(0.05, 0.02), EdgeKind::LoopClosure};
+  off.active = false;
+  chain.addEdge(off);
+  EXPECT_DOUBLE_EQ(chain.pathThroughLoops(path, 5)[0], 5.0);
+  EXPECT_THROW(chain.pathThroughLoops(path, 6), std::out_of_range);
+  EXPECT_THROW(chain.pathThroughLoops({0, 1}, 0), std::out_of_range);
+}
+
 // Too few iterations to converge: the poses stay as they were, and the report says so.
 TEST(PoseGraph, AnOptimisationThatDoesNotConvergeKeepsThePoses) {
   PoseGraph g;

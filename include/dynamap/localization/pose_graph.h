@@ -53,6 +53,12 @@ class PoseGraph {
   const mrpt::poses::CPose2D& pose(std::size_t node) const { return poses_.at(node); }
   void setPose(std::size_t node, const mrpt::poses::CPose2D& p) { poses_.at(node) = p; }
   const std::vector<PoseEdge>& edges() const { return edges_; }
+  /// The path between node `from` and every node through the graph (Dijkstra): along the chain
+  /// of nodes, node k and k+1 `path[k + 1] - path[k]` apart (path: the path length at each node,
+  /// non-decreasing, one per node), and 0 across an active loop closure. How far apart two
+  /// nodes are for the error of their relative pose. Throws std::out_of_range on a bad `from`
+  /// or a `path` of the wrong size.
+  std::vector<double> pathThroughLoops(const std::vector<double>& path, std::size_t from) const;
   /// chi^2 of one edge at the current poses.
   double edgeError(const PoseEdge& e) const;
 

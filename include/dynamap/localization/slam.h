@@ -70,6 +70,12 @@ struct SlamOptions {
   double loop_min_score = 0.55;        ///< a loop closure's points' mean field value [0, 1]
   double loop_ambiguity_ratio = 0.9;   ///< runner-up / best above this: ambiguous [0, 1]
   double loop_ambiguity_m = 0.4;       ///< runner-ups this far from the best count (0, 20]
+  /// The window grows with the path between the scan and the submap through the graph (across
+  /// loop closures), not with the path since the last loop closure anywhere.
+  bool loop_window_graph = false;
+  /// A loop closure this far (m) from the pose's estimate is optimised at once, so that the next
+  /// searches start from corrected estimates; 0: only every optimise_every_nodes [0, 1000].
+  double loop_optimise_m = 0.0;
   // Optimisation.
   int optimise_every_nodes = 1000;  ///< nodes between optimisations with new loops [1, 1e6]
   int max_iterations = 100;         ///< Levenberg-Marquardt iterations per run [1, 10000]
@@ -126,7 +132,9 @@ class Slam {
   mrpt::poses::CPose2D frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd);
   void updateSubmaps(const RangeData& rd);
   void searchLoops(const std::vector<mrpt::math::TPoint2D>& pts);
-  bool tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts, double uncertain_m);
+  /// Whether a loop closure was added; `moved_m`: how far it lies from the pose's estimate.
+  bool tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts, double uncertain_m,
+               double& moved_m);
   void optimise();
 
   SlamOptions o_;
