@@ -309,9 +309,15 @@ bool smallStaticBlob(const DynamicGridMap& map, int cx, int cy, int extent,
 }
 
 // Calls f(cx, cy) for each cell whose centre lies within `radius` of (x, y)'s cell, row by row;
-// true as soon as f returns true.
+// true as soon as f returns true. A centre farther than `radius` off the grid has no cell within
+// reach: it is told by its coordinates, as its cell index need not fit an int (a leg found among
+// hits far off the grid; converting it is undefined).
 template <typename F>
 bool anyCellWithin(const DynamicGridMap& map, double x, double y, double radius, F&& f) {
+  if (!(x >= map.getXMin() - radius && x <= map.getXMax() + radius &&
+        y >= map.getYMin() - radius && y <= map.getYMax() + radius)) {
+    return false;
+  }
   const double res = map.getResolution();
   const int n = static_cast<int>(std::ceil(radius / res));
   const int cx = map.x2idx(x), cy = map.y2idx(y);
