@@ -191,7 +191,7 @@ struct WorldRun {
   std::vector<sim::ScanTruth> truth;   // every scan
   std::vector<PersonSummary> people;
   std::size_t objects = 0;  // ever reported, withdrawn ones included
-  std::vector<TrackedObject> table;  // the final table (objects.csv): none withdrawn
+  std::vector<TrackedObject> table;  // the final table (objects.csv): present or absent ones
   std::size_t withdrawn = 0;
 };
 
@@ -218,7 +218,7 @@ WorldRun runWorld(const std::string& ini_text, MapConfig config = {}) {
   for (const TrackedObject& o : mapper.tracker().objects()) {
     if (o.state == ObjectState::Withdrawn) {
       ++out.withdrawn;
-    } else {
+    } else if (listedInTable(o.state)) {
       out.table.push_back(o);
     }
   }
