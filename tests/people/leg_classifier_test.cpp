@@ -125,15 +125,21 @@ TEST(LegClassifier, TheBuiltInModelTakesALegForALegAndAWallOrItsCornerForNone) {
   EXPECT_TRUE(segmentScan(chair, kLegSegmentJump, kLegMinPoints).empty());
 }
 
-TEST(LegClassifier, AForestSurvivesSavingAndLoadingAndLearnsWhatItIsShown) {
+// 200 samples, half legs, told apart by their width alone (feature 3).
+std::vector<LegSample> widthTellsThemApart() {
   std::vector<LegSample> samples;
   for (int i = 0; i < 200; ++i) {
     LegSample s;
     s.leg = i % 2 == 0;
     s.features.fill(static_cast<float>(i % 7));
-    s.features[3] = s.leg ? 0.1f + 0.0001f * i : 0.5f + 0.0001f * i;  // width tells them apart
+    s.features[3] = s.leg ? 0.1f + 0.0001f * i : 0.5f + 0.0001f * i;
     samples.push_back(s);
   }
+  return samples;
+}
+
+TEST(LegClassifier, AForestSurvivesSavingAndLoadingAndLearnsWhatItIsShown) {
+  const std::vector<LegSample> samples = widthTellsThemApart();
   LegForestParams p;
   p.trees = 5;
   const LegClassifier c = LegClassifier::train(samples, p);
@@ -182,14 +188,7 @@ TEST(LegClassifier, TheBuiltInFlatTreesVoteAsOpenCvsOwnPredictionOfTheShippedMod
 }
 
 TEST(LegClassifier, FlatTreesSurviveWritingAndReadingAndBadOnesAreRefusedByName) {
-  std::vector<LegSample> samples;
-  for (int i = 0; i < 100; ++i) {
-    LegSample s;
-    s.leg = i % 2 == 0;
-    s.features.fill(static_cast<float>(i % 5));
-    s.features[0] = s.leg ? 3.0f + 0.01f * i : 9.0f + 0.01f * i;
-    samples.push_back(s);
-  }
+  const std::vector<LegSample> samples = widthTellsThemApart();
   LegForestParams p;
   p.trees = 3;
   const LegClassifier c = LegClassifier::train(samples, p);
