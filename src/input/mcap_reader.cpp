@@ -4,6 +4,7 @@
 // closed, or written without a summary) the data section is read record by record from the
 // start. Within a chunk the messages come out in log_time order.
 #include <algorithm>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
@@ -347,7 +348,8 @@ bool McapStream::readSummary() {
   std::uint8_t tail[kTail];
   in_.seekg(static_cast<std::streamoff>(file_size_ - kTail));
   if (!in_.read(reinterpret_cast<char*>(tail), kTail)) return false;
-  if (!std::equal(tail + kTail - kMagicSize, tail + kTail, kMagic)) return false;
+  // Byte for byte: kMagic is char (signed here), the tail unsigned, and 0x89 is not -119.
+  if (std::memcmp(tail + kTail - kMagicSize, kMagic, kMagicSize) != 0) return false;
   Fields foot(tail, kRecordHead + kFooterContent);
   if (foot.u8() != kFooter || foot.u64() != kFooterContent) return false;
   const std::uint64_t start = foot.u64(), offsets = foot.u64();

@@ -232,6 +232,24 @@ TEST_F(Ros2BagTest, ABitFlippedChunkFailsItsCrcNamingTheChunk) {
   EXPECT_NE(fault.find("CRC"), std::string::npos) << fault;
 }
 
+TEST_F(Ros2BagTest, TheSummaryAnswersTopicsAndSkipsChunksWithoutTheTopicsAsked) {
+  // A bit flipped in the middle chunk: what the summary answers never reads that chunk. A reader
+  // that ignored the summary (and read the data section record by record) would meet the bad CRC.
+  const std::string whole = writeBag("indexed.mcap", "none", 10000);  // 3 chunks
+  std::string bytes = test::readFile(whole);
+  bytes[bytes.size() / 2] ^= 0x10;
+  std::ofstream(path("indexed_flipped.mcap"), std::ios::binary) << bytes;
+  auto all = ros2::openRos2Bag(path("indexed_flipped.mcap"), {});
+  EXPECT_EQ(all->topics().size(), 3u);
+  EXPECT_EQ(all->fault(), "");
+  auto statics = ros2::openRos2Bag(path("indexed_flipped.mcap"), {"/tf_static"});
+  int n = 0;
+  while (statics->next()) ++n;
+  EXPECT_EQ(n, 1);  // /tf_static is in the first chunk only
+  EXPECT_EQ(statics->fault(), "");
+  EXPECT_EQ(statics->fractionRead(), 1.0);
+}
+
 TEST_F(Ros2BagTest, AFolderReadsItsDb3FilesInTheOrderOfMetadataYaml) {
   fs::create_directories(path("bag"));
   {
