@@ -197,12 +197,15 @@ CObservation2DRangeScan::Ptr convertScan(const sensor_msgs::LaserScan& m, double
   scan->rightToLeft = inc >= 0;
   scan->maxRange = static_cast<float>(hi);
   scan->sensorLabel = m.header.frame_id.empty() ? "LASER" : m.header.frame_id;
-  scan->resizeScan(n);
+  // In one call: MRPT's per-beam setters are out of line and bounds-checked, a fifth of a
+  // ROS 2 bag's reading time.
+  static thread_local std::vector<char> valid;
+  valid.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const float r = m.ranges[i];
-    scan->setScanRange(i, r);
-    scan->setScanRangeValidity(i, std::isfinite(r) && r >= lo && r <= hi);
+    valid[i] = std::isfinite(r) && r >= lo && r <= hi ? 1 : 0;
   }
+  scan->loadFromVectors(n, m.ranges.data(), valid.data());
   return scan;
 }
 
