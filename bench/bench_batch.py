@@ -58,12 +58,11 @@ def main():
     p.add_argument("--out", default="out/bench-batch")
     p.add_argument("--floor", type=float, default=1.6)
     a = p.parse_args()
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     seq_jobs, par_jobs = jobs_for(a, "sequential"), jobs_for(a, "batch")
     t0 = time.monotonic()
-    cluster = LocalCluster(n_workers=a.workers, threads_per_worker=1, processes=True,
-                           dashboard_address=None)
+    cluster = batch.local_cluster(a.workers)
     client = Client(cluster)
     client.run(lambda: __import__("dynamap"))  # each worker loads the module before the clock
     started = time.monotonic() - t0
