@@ -21,193 +21,32 @@
 #include <set>
 
 #include "bag_index_check.h"
+#include "bag_messages.h"
 #include "bag_salvage.h"
 #include "dynamap/base/allocation_limit.h"
 #include "dynamap/base/pose_track.h"
 #include "dynamap/input/cdr_messages.h"
 #include "dynamap/input/ros2_bag.h"
+#include "tf_tree.h"
 
 namespace dynamap {
 namespace {
 
+using bag::convertScan;
+using bag::frameName;
+using bag::MessageCursor;
+using bag::pose2D;
+using bag::TfTree;
 using mrpt::obs::CObservation2DRangeScan;
 using mrpt::poses::CPose2D;
 
 constexpr double kHistory_s = 10.0;            // transforms kept before the oldest scan waiting
 constexpr std::size_t kMaxPending = 10000;     // scans waiting for later transforms
-constexpr std::size_t kMaxFrames = 1000;       // distinct child frames in the tf tree
-constexpr std::size_t kMaxChain = 64;          // frames between a frame and its tree's root
 constexpr std::size_t kPeekTfMessages = 2000;  // /tf messages read to learn the frames
-constexpr std::size_t kMaxBeams = 1000000;
 const std::vector<std::string> kTfTopics = {"/tf", "tf"};
 const std::vector<std::string> kTfStaticTopics = {"/tf_static", "tf_static"};
 const char* const kLaserScanType = "sensor_msgs/LaserScan";
 const char* const kOdometryType = "nav_msgs/Odometry";
-
-/// tf frame names with and without tf1's leading slash are the same frame.
-std::string frameName(const std::string& f) {
-  return !f.empty() && f[0] == '/' ? f.substr(1) : f;
-}
-
-/// The yaw of a rotation; NaN when the quaternion is not finite or far from unit length.
-double yawOf(const geometry_msgs::Quaternion& q) {
-  const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
-  if (!std::isfinite(n2) || std::abs(n2 - 1.0) > 0.01) return NAN;
-  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
-}
-
-std::optional<CPose2D> pose2D(double x, double y, const geometry_msgs::Quaternion& q) {
-  const double yaw = yawOf(q);
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(yaw)) return std::nullopt;
-  // From a TPose2D: CPose2D(x, y, phi) wraps phi again, which moves a yaw atan2 gave by ~1e-17
-  // (the CARMEN reader's poses are made the same way: a log's pose crosses a bag unchanged).
-  return CPose2D(mrpt::math::TPose2D(x, y, yaw));
-}
-
-/// A 2D tf tree: each child frame's pose in its parent, static or a timed track.
-class TfTree {
- public:
-  using Lookup = PoseTrack::Lookup;
-
-  /// False (the transform is dropped) when it would add a frame past kMaxFrames.
-  bool add(const std::string& parent, const std::string& child, double t, const CPose2D& pose,
-           bool is_static) {
-    auto it = edges_.find(child);
-    if (it == edges_.end()) {
-      if (edges_.size() >= kMaxFrames) return false;
-      it = edges_.emplace(child, Edge{}).first;
-    }
-    Edge& e = it->second;
-    if (e.parent != parent) e.track = PoseTrack();  // re-parented: the old samples are moot
-    e.parent = parent;
-    e.is_static = is_static;
-    if (is_static)
-      e.fixed = pose;
-    else
-      e.track.add(t, pose);
-    return true;
-  }
-
-  bool knows(const std::string& frame) const {
-    if (edges_.count(frame)) return true;
-    for (const auto& kv : edges_) {
-      if (kv.second.parent == frame) return true;
-    }
-    return false;
-  }
-
-  /// The pose of `source` in `target` at time t (kLater: a later transform may still make it
-  /// known; with `complete` none will).
-  Lookup lookup(const std::string& target, const std::string& source, double t, bool complete,
-                CPose2D& out) const {
-    const std::vector<std::string> up_s = chain(source), up_t = chain(target);
-    const auto common = std::find_first_of(up_s.begin(), up_s.end(), up_t.begin(), up_t.end());
-    // Frames not (yet) connected: a transform joining them may still come.
-    if (common == up_s.end()) return complete ? Lookup::kMissing : Lookup::kLater;
-    CPose2D in_common_s, in_common_t;
-    const Lookup a = poseIn(source, *common, t, complete, in_common_s);
-    if (a != Lookup::kFound) return a;
-    const Lookup b = poseIn(target, *common, t, complete, in_common_t);
-    if (b != Lookup::kFound) return b;
-    // Composing with an identity is not exact in MRPT (p + 0 moves phi by ~1e-13): a pose in
-    // the target frame itself, the usual case, is taken as it is.
-    out = *common == target ? in_common_s : in_common_s - in_common_t;
-    return Lookup::kFound;
-  }
-
-  std::size_t samples() const {
-    std::size_t n = 0;
-    for (const auto& kv : edges_) n += kv.second.track.size();
-    return n;
-  }
-
-  /// Forgets timed samples no lookup at time >= t needs.
-  void forgetBefore(double t) {
-    for (auto& kv : edges_) kv.second.track.forgetBefore(t);
-  }
-
- private:
-  struct Edge {
-    std::string parent;
-    bool is_static = false;
-    CPose2D fixed;
-    PoseTrack track;
-  };
-
-  /// `frame`, its parent, ... up to its root (bounded: a cycle in a corrupt bag ends it).
-  std::vector<std::string> chain(const std::string& frame) const {
-    std::vector<std::string> out{frame};
-    for (auto it = edges_.find(frame); it != edges_.end() && out.size() < kMaxChain;
-         it = edges_.find(out.back())) {
-      if (std::find(out.begin(), out.end(), it->second.parent) != out.end()) break;
-      out.push_back(it->second.parent);
-    }
-    return out;
-  }
-
-  /// The pose of `frame` in its ancestor `ancestor`, composed edge by edge.
-  Lookup poseIn(const std::string& frame, const std::string& ancestor, double t, bool complete,
-                CPose2D& out) const {
-    out = CPose2D();
-    for (std::string f = frame; f != ancestor;) {
-      const Edge& e = edges_.at(f);
-      CPose2D p = e.fixed;
-      if (!e.is_static) {
-        const Lookup r = e.track.at(t, p, complete);
-        if (r != Lookup::kFound) return r;
-      }
-      out = f == frame ? p : p + out;  // the first edge as it is (see lookup)
-      f = e.parent;
-    }
-    return Lookup::kFound;
-  }
-
-  std::map<std::string, Edge> edges_;  // by child frame
-};
-
-/// A LaserScan as an MRPT scan, its beams' middle angle in `centre` (the mount is added once
-/// known); null with `bad` saying why when its geometry cannot be mapped.
-CObservation2DRangeScan::Ptr convertScan(const sensor_msgs::LaserScan& m, double& centre,
-                                         std::string& bad) {
-  const std::size_t n = m.ranges.size();
-  if (n == 0) {
-    bad = "scan with no beams";
-    return nullptr;
-  }
-  if (n > kMaxBeams) {
-    bad = "scan with more than 1,000,000 beams";
-    return nullptr;
-  }
-  const double inc = m.angle_increment, lo = m.range_min, hi = m.range_max;
-  if (!std::isfinite(m.angle_min) || !std::isfinite(inc) || (n > 1 && inc == 0) ||
-      std::abs(inc) * static_cast<double>(n - 1) > 2 * M_PI + 1e-6) {
-    bad = "scan with bad beam angles (angle_min, angle_increment)";
-    return nullptr;
-  }
-  if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > 0) || lo > hi) {
-    bad = "scan with bad range_min / range_max";
-    return nullptr;
-  }
-  // MRPT spreads the beams evenly over `aperture`, symmetric about the sensor's x axis; ROS's
-  // beam i lies at angle_min + i * angle_increment, counter-clockwise when the increment is
-  // positive.
-  centre = m.angle_min + inc * static_cast<double>(n - 1) / 2;
-  auto scan = std::make_shared<CObservation2DRangeScan>();
-  scan->aperture = static_cast<float>(std::abs(inc) * static_cast<double>(n - 1));
-  scan->rightToLeft = inc >= 0;
-  scan->maxRange = static_cast<float>(hi);
-  scan->sensorLabel = m.header.frame_id.empty() ? "LASER" : m.header.frame_id;
-  // In one call: MRPT's per-beam setters are out of line and bounds-checked, a fifth of a
-  // ROS 2 bag's reading time.
-  static thread_local std::vector<char> valid;
-  valid.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const float r = m.ranges[i];
-    valid[i] = std::isfinite(r) && r >= lo && r <= hi ? 1 : 0;
-  }
-  scan->loadFromVectors(n, m.ranges.data(), valid.data());
-  return scan;
-}
 
 std::string topicList(const std::vector<std::pair<std::string, std::string>>& topics) {
   std::string out;
@@ -216,87 +55,6 @@ std::string topicList(const std::vector<std::pair<std::string, std::string>>& to
   }
   return out.empty() ? "none" : out;
 }
-
-/// The messages of some topics, in order: through rosbag's View when the bag has its index, else
-/// through BagSalvage in file order (a bag cut off or never closed).
-class MessageCursor {
- public:
-  MessageCursor(rosbag::Bag& bag, const std::vector<std::string>& topics)
-      : view_(std::make_unique<rosbag::View>(bag, rosbag::TopicQuery(topics))),
-        size_(view_->size()) {}
-  MessageCursor(const std::string& path, const std::vector<std::string>& topics)
-      : salvage_(std::make_unique<bag::BagSalvage>(path)), topics_(topics) {}
-  /// A ROS 2 bag: the stream hands out CDR bytes, decoded here into the ROS 1 messages.
-  explicit MessageCursor(std::unique_ptr<ros2::MessageStream> stream) : ros2_(std::move(stream)) {}
-
-  /// Moves to the next message (the first, on the first call); false at the end.
-  bool next() {
-    if (ros2_) return ros2_->next();
-    if (salvage_) {
-      while (salvage_->next()) {
-        if (topics_.empty() || std::count(topics_.begin(), topics_.end(), salvage_->topic())) {
-          return true;
-        }
-      }
-      return false;
-    }
-    if (started_)
-      ++it_;
-    else
-      it_ = view_->begin();
-    started_ = true;
-    done_ += 1;
-    return it_ != view_->end();
-  }
-  const std::string& topic() const {
-    return ros2_ ? ros2_->topic() : salvage_ ? salvage_->topic() : it_->getTopic();
-  }
-  double time() const {
-    if (ros2_) return static_cast<double>(ros2_->timeNs()) * 1e-9;
-    return salvage_ ? salvage_->time() : it_->getTime().toSec();
-  }
-  /// The message as T; null when it is of another type. Throws when its bytes are not a T.
-  template <class T>
-  boost::shared_ptr<T> as() const {
-    if (ros2_) return decoded<T>();
-    return salvage_ ? salvage_->as<T>() : it_->instantiate<T>();
-  }
-  /// ROS 2 only (a View reads only the topics asked for): the message's type.
-  std::string typeName() const { return ros2_ ? ros2_->type() : std::string(); }
-  double fractionRead() const {
-    if (ros2_) return ros2_->fractionRead();
-    if (salvage_) return salvage_->fractionRead();
-    return size_ > 0 ? std::min(1.0, (done_ - 1) / size_) : 1.0;
-  }
-  /// Salvage and ROS 2: where and why the readable part ended, and the topics seen.
-  std::string fault() const { return ros2_ ? ros2_->fault() : salvage_ ? salvage_->fault() : ""; }
-  std::vector<std::pair<std::string, std::string>> salvagedTopics() const {
-    return salvage_->topics();
-  }
-
- private:
-  std::unique_ptr<rosbag::View> view_;
-  rosbag::View::iterator it_;
-  double size_ = 0, done_ = 0;
-  bool started_ = false;
-  template <class T>
-  boost::shared_ptr<T> decoded() const {
-    if (ros2::ros1TypeName(ros2_->type()) != ros::message_traits::DataType<T>::value()) {
-      return nullptr;
-    }
-    auto out = boost::make_shared<T>();
-    try {
-      ros2::decode(ros2_->data(), ros2_->size(), *out);
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error(ros2_->where() + ": " + e.what());
-    }
-    return out;
-  }
-
-  std::unique_ptr<bag::BagSalvage> salvage_;
-  std::vector<std::string> topics_;
-  std::unique_ptr<ros2::MessageStream> ros2_;
-};
 
 }  // namespace
 
