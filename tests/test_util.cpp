@@ -154,4 +154,20 @@ std::string readFile(const std::string& path) {
   return ss.str();
 }
 
+std::vector<ScanRecord> readAll(ScanSource& src) {
+  std::vector<ScanRecord> out;
+  ScanRecord r;
+  while (src.next(r)) out.push_back(r);
+  return out;
+}
+
+std::string inputError(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace dynamap::test

@@ -4,8 +4,11 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "dynamap/input/scan_source.h"
 
 namespace dynamap::test {
 
@@ -44,5 +47,10 @@ std::string tempDir(const std::string& tag);
 int run(const std::string& command, std::string* output = nullptr);
 
 std::string readFile(const std::string& path);
+
+/// Every record `src` gives, in order.
+std::vector<ScanRecord> readAll(ScanSource& src);
+/// The message of the InputError `f` throws; empty when it throws none.
+std::string inputError(const std::function<void()>& f);
 
 }  // namespace dynamap::test

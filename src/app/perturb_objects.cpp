@@ -16,6 +16,7 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "dynamap/base/csv_schema.h"
 #include "dynamap/input/open_source.h"
 #include "dynamap/outputs/map_outputs.h"
 #include "dynamap/pipeline/mapper.h"
@@ -39,7 +40,8 @@ std::vector<ScanRecord> readAll(const std::string& input) {
 }
 
 /// S of `map` as Free cells (below the mapper's free_threshold: where a new object raises D).
-sim::FreeSpace freeSpaceOf(const DynamicGridMap& map, const std::vector<sim::Vec2>& robot, double t) {
+sim::FreeSpace freeSpaceOf(const DynamicGridMap& map, const std::vector<sim::Vec2>& robot,
+                           double t) {
   sim::FreeSpace free;
   free.t = t;
   free.x_min = map.getXMin();
@@ -80,7 +82,8 @@ std::vector<sim::FreeSpace> freeSpaces(const std::vector<ScanRecord>& records, M
       own += row;
     }
   }
-  while (free.size() < times.size()) free.push_back(freeSpaceOf(mapper.map(), robot, times[free.size()]));
+  while (free.size() < times.size())
+    free.push_back(freeSpaceOf(mapper.map(), robot, times[free.size()]));
   return free;
 }
 
@@ -141,7 +144,8 @@ void writeRecord(mrpt::serialization::CArchive& ar, const ScanRecord& rec,
   scan.timestamp = stamp;
   for (std::size_t i = 0; i < g.ranges.size(); ++i) {
     // Only the beams a cylinder shortened change; every other stays as the log has it.
-    if (!g.valid[i] || (scan.getScanRangeValidity(i) && g.ranges[i] >= scan.getScanRange(i))) continue;
+    if (!g.valid[i] || (scan.getScanRangeValidity(i) && g.ranges[i] >= scan.getScanRange(i)))
+      continue;
     scan.setScanRange(i, g.ranges[i]);
     scan.setScanRangeValidity(i, true);
   }
@@ -157,15 +161,15 @@ void writeScans(const Outputs& out, const std::vector<ScanRecord>& records,
                 std::vector<sim::ScanGeometry>& geometry, const sim::AddedPlan& plan,
                 const sim::AddObjectsSpec& spec) {
   mrpt::io::CFileGZOutputStream rawlog;
-  if (!rawlog.open(out.tmp(".rawlog"))) throw std::runtime_error(out.tmp(".rawlog") + ": cannot write");
+  if (!rawlog.open(out.tmp(".rawlog")))
+    throw std::runtime_error(out.tmp(".rawlog") + ": cannot write");
   auto ar = mrpt::serialization::archiveFrom(rawlog);
   std::FILE* gt = openOut(out.tmp(".gt.txt"));
   std::FILE* objects = openOut(out.tmp(".objects.csv"));
-  std::fprintf(objects, "scan_index,t,kind,id,x,y,diameter,hits\n");
+  std::fprintf(objects, "%s\n", csv::kTruthRows);
   for (std::size_t s = 0; s < records.size(); ++s) {
     sim::ScanGeometry& g = geometry[s];
-    const std::vector<int> hits =
-        sim::applyAddedObjects(plan, g, spec, spec.seed * 1000003ULL + s);
+    const std::vector<int> hits = sim::applyAddedObjects(plan, g, spec, spec.seed * 1000003ULL + s);
     writeRecord(ar, records[s], g);
     const auto& p = records[s].pose;
     std::fprintf(gt, "%.6f %.6f %.6f %.6f\n", records[s].t, p.x(), p.y(), p.phi());
@@ -183,14 +187,15 @@ void writeScans(const Outputs& out, const std::vector<ScanRecord>& records,
 void writePlan(const Outputs& out, const sim::AddedPlan& plan, const std::string& input,
                const std::string& spec_text, std::size_t planned) {
   std::FILE* moves = openOut(out.tmp(".moves.csv"));
-  std::fprintf(moves, "move_id,object_id,t_start,t_end,from_x,from_y,to_x,to_y\n");
+  std::fprintf(moves, "%s\n", csv::kMoves);
   for (const auto& m : plan.moves) {
     std::fprintf(moves, "%d,%d,%.3f,%.3f,%.4f,%.4f,%.4f,%.4f\n", m.id, m.object_id, m.t_start,
                  m.t_end, m.from.x, m.from.y, m.to.x, m.to.y);
   }
   closeOut(moves, out.tmp(".moves.csv"));
   std::FILE* note = openOut(out.tmp(".added.txt"));
-  std::fprintf(note, "input: %s\nspec: %s\nobjects: %zu\nmoves planned: %zu, kept: %zu, dropped: %zu\n",
+  std::fprintf(note,
+               "input: %s\nspec: %s\nobjects: %zu\nmoves planned: %zu, kept: %zu, dropped: %zu\n",
                input.c_str(), spec_text.c_str(), plan.objects.size(), planned, plan.moves.size(),
                plan.dropped.size());
   for (const auto& o : plan.objects) {
@@ -227,7 +232,7 @@ int runAddObjects(const std::string& input, const std::string& dir, const std::s
   spec.counted_range_m = config.insertion.max_distance_insertion;
   std::vector<sim::ScanGeometry> geometry;
   for (const ScanRecord& rec : records) geometry.push_back(geometryOf(rec, records.front().t));
-  std::string own = "scan_index,cx,cy\n";
+  std::string own = std::string(csv::kOwn) + "\n";
   const auto free = freeSpaces(records, config, sim::addedSlotTimes(geometry.back().t, spec), own);
   sim::AddedPlan plan;
   try {

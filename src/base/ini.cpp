@@ -12,7 +12,6 @@
 #include <sstream>
 
 namespace dynamap {
-namespace {
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r\n");
@@ -20,6 +19,8 @@ std::string trim(const std::string& s) {
   const auto e = s.find_last_not_of(" \t\r\n");
   return s.substr(b, e - b + 1);
 }
+
+namespace {
 
 std::string stripComment(const std::string& s) {
   const auto pos = s.find_first_of(";#");

@@ -5,17 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dynamap/base/angles.h"
+
 namespace dynamap {
-
-namespace {
-
-double wrapAngle(double a) {
-  while (a > M_PI) a -= 2 * M_PI;
-  while (a <= -M_PI) a += 2 * M_PI;
-  return a;
-}
-
-}  // namespace
 
 ScanView makeScanView(const RangeData& rd, const mrpt::poses::CPose2D& robot) {
   ScanView v;

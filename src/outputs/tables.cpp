@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <ostream>
 
+#include "dynamap/base/csv_schema.h"
 #include "dynamap/outputs/format.h"
 #include "dynamap/outputs/map_outputs.h"
 
@@ -42,7 +43,7 @@ void StreamedFile::finish() {
 }
 
 PeopleLog::PeopleLog(const std::string& dir)
-    : file_(dir, "people.csv", "scan_index,t,person_id,x,y,vx,vy\n") {}
+    : file_(dir, "people.csv", std::string(csv::kPeople) + "\n") {}
 
 void PeopleLog::append(std::size_t scan_index, double t, const PersonTracker& people) {
   for (const PersonRow& p : people.reported()) {
@@ -53,7 +54,7 @@ void PeopleLog::append(std::size_t scan_index, double t, const PersonTracker& pe
 }
 
 TrackLog::TrackLog(const std::string& dir)
-    : file_(dir, "tracks.csv", "scan_index,t,object_id,cx,cy,size_m,x_min,x_max,y_min,y_max\n") {}
+    : file_(dir, "tracks.csv", std::string(csv::kTracks) + "\n") {}
 
 void TrackLog::append(std::size_t scan_index, double t, const ObjectTracker& tracker) {
   // Every present object every scan: the rows are built in one reused buffer, one write a scan.
@@ -89,7 +90,7 @@ bool eventsListed(const ObjectTracker& tracker, int id) {
 }
 
 void writeObjectsCsv(std::ostream& o, const ObjectTracker& tracker) {
-  o << "id,label,size_m,cx,cy,x_min,x_max,y_min,y_max,state,first_seen_t,last_seen_t,n_moves\n";
+  o << csv::kObjects << "\n";
   for (const TrackedObject& ob : tracker.objects()) {
     if (!listedInTable(ob.state)) continue;
     const ShapeEstimate& s = ob.shape;

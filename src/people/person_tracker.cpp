@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "dynamap/people/hungarian.h"
+#include "dynamap/base/hungarian.h"
 
 namespace dynamap {
 

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dynamap/base/angles.h"
 #include "dynamap/sim/random.h"
 
 namespace dynamap::sim {
@@ -13,11 +14,6 @@ namespace dynamap::sim {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-double wrap(double a) {
-  a = std::fmod(a + kPi, 2 * kPi);
-  if (a < 0) a += 2 * kPi;
-  return a - kPi;
-}
 
 double number(const std::string& key, const std::string& value) {
   std::size_t used = 0;
@@ -112,7 +108,7 @@ std::vector<float> chamfer(const std::vector<std::uint8_t>& seed, int nx, int ny
 std::pair<long, long> beamWindow(const ScanGeometry& scan, Vec2 c, double r) {
   const double dx = c.x - scan.sensor.x, dy = c.y - scan.sensor.y, d = std::hypot(dx, dy);
   if (d <= r || d - r >= scan.max_range || scan.step <= 0 || scan.ranges.empty()) return {1, 0};
-  const double rel = wrap(std::atan2(dy, dx) - scan.sensor_phi - scan.first_angle - kPi) + kPi;
+  const double rel = wrapAngle(std::atan2(dy, dx) - scan.sensor_phi - scan.first_angle - kPi) + kPi;
   const double half = std::asin(std::min(1.0, r / d));
   const long n = static_cast<long>(scan.ranges.size());
   const long lo = std::max(0L, static_cast<long>(std::ceil((rel - half) / scan.step)));
@@ -167,7 +163,8 @@ void FreeSpace::build(const std::vector<std::uint8_t>& free, const std::vector<V
   for (const Vec2& p : robot) {
     const int x = static_cast<int>(std::floor((p.x - x_min) / resolution));
     const int y = static_cast<int>(std::floor((p.y - y_min) / resolution));
-    if (x >= 0 && y >= 0 && x < size_x && y < size_y) path[static_cast<std::size_t>(y) * size_x + x] = 1;
+    if (x >= 0 && y >= 0 && x < size_x && y < size_y)
+      path[static_cast<std::size_t>(y) * size_x + x] = 1;
   }
   clearance = chamfer(blocked, size_x, size_y, resolution, cap);
   path_distance = chamfer(path, size_x, size_y, resolution, cap);

@@ -13,6 +13,9 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "dynamap/base/angles.h"
+#include "dynamap/base/csv_schema.h"
+
 namespace dynamap::sim {
 namespace {
 
@@ -33,11 +36,6 @@ Pose2 compose(const Pose2& a, double dx, double dy, double dphi) {
 }
 
 }  // namespace
-
-double wrapAngle(double a) {
-  a = std::remainder(a, 2 * kPi);  // exact, in [-pi, pi]
-  return a <= -kPi ? a + 2 * kPi : a;
-}
 
 // ---- the route ----------------------------------------------------------------------------
 
@@ -226,7 +224,7 @@ void writeObjectRows(std::ofstream& out, const Scenario& sc, const ScanTruth& st
 
 void writeMoves(const std::string& path, const Scenario& sc) {
   std::ofstream out = openText(path);
-  out << "move_id,object_id,t_start,t_end,from_x,from_y,to_x,to_y\n";
+  out << csv::kMoves << "\n";
   std::vector<MoveSpec> moves = sc.moves;
   std::sort(moves.begin(), moves.end(), [](auto& a, auto& b) { return a.id < b.id; });
   for (const auto& m : moves) {
@@ -253,7 +251,7 @@ std::size_t writeSimulation(const Scenario& sc, const std::string& out_dir) {
   auto ar = mrpt::serialization::archiveFrom(rawlog);
   std::ofstream gt = openText(files.gt);
   std::ofstream objects = openText(files.objects);
-  objects << "scan_index,t,kind,id,x,y,diameter,hits\n";
+  objects << csv::kTruthRows << "\n";
 
   Simulator sim(sc);
   ScanTruth st;

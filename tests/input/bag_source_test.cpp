@@ -23,6 +23,9 @@
 namespace dynamap {
 namespace {
 
+using test::inputError;
+using test::readAll;
+
 using mrpt::poses::CPose2D;
 using test::BagWriter;
 using test::RosScan;
@@ -52,22 +55,6 @@ void writeDrive(BagWriter& bag, const std::function<void(double)>& extra_tf = {}
     if (extra_tf) extra_tf(t);
   }
   for (int k = 0; k < 8; ++k) bag.scan("/scan", kT0 + 0.1 + 0.25 * k, fiveBeams());
-}
-
-std::vector<ScanRecord> readAll(ScanSource& src) {
-  std::vector<ScanRecord> out;
-  ScanRecord r;
-  while (src.next(r)) out.push_back(r);
-  return out;
-}
-
-std::string inputError(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 void expectPose(const CPose2D& got, const CPose2D& want, double tol = 1e-6) {

@@ -20,13 +20,7 @@ namespace dynamap {
 namespace {
 
 using mrpt::poses::CPose2D;
-
-std::vector<ScanRecord> readAll(ScanSource& src) {
-  std::vector<ScanRecord> out;
-  ScanRecord r;
-  while (src.next(r)) out.push_back(r);
-  return out;
-}
+using test::readAll;
 
 InputOptions fixedAt(const CPose2D& pose) {
   InputOptions o;

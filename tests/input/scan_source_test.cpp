@@ -22,6 +22,9 @@
 namespace dynamap {
 namespace {
 
+using test::inputError;
+using test::readAll;
+
 namespace fs = std::filesystem;
 
 using mrpt::poses::CPose2D;
@@ -35,22 +38,6 @@ std::vector<test::LogStep> tenSteps() {
         {t, CPose2D(0.1 * k, 0.5, 0.01 * k), test::makeScan({1.0f, 2.0f, 3.0f}, 1.0, t)});
   }
   return steps;
-}
-
-std::vector<ScanRecord> readAll(ScanSource& src) {
-  std::vector<ScanRecord> out;
-  ScanRecord r;
-  while (src.next(r)) out.push_back(r);
-  return out;
-}
-
-std::string inputError(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(ScanSource, ObservationRawlogWithGroundTruth) {

@@ -83,5 +83,7 @@ void requireInRange(const std::string& source, const std::string& section, const
 /// Strict number parsing shared by every reader: the whole text must be the number.
 bool parseDouble(const std::string& text, double& out);
 bool parseLong(const std::string& text, long& out);
+/// `s` without the blanks (space, tab, CR, LF) at either end.
+std::string trim(const std::string& s);
 
 }  // namespace dynamap

@@ -7,9 +7,9 @@
 // log-odds of being FREE (16 units per nat): a larger cell value means "more likely free".
 //
 // One pass over each 2D scan updates both layers with the inverse sensor model conditioned on
-// the cell's static state before the scan (docs/design.md, "The method"): hits are applied first, then the
-// free space, and every cell is updated at most once per scan, so a hit in a cell beats a miss
-// in the same cell.
+// the cell's static state before the scan (docs/design.md, "The method"): hits are applied first,
+// then the free space, and every cell is updated at most once per scan, so a hit in a cell beats a
+// miss in the same cell.
 //
 // Free space is the area the scan swept: the wedge between two adjacent beams is free up to the
 // shorter of the two ranges less one cell (filled row by row, each cell once), and each beam
@@ -91,13 +91,15 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   static float staticOccupancyOfValue(cellType v) { return 1.0f - l2p(v); }
   /// S's state that conditions the model: Free when P(occ) < free_threshold.
   bool isStaticFree(int cx, int cy) const {
-    if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return false;
+    if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y)
+      return false;
     return m_map[cx + static_cast<std::size_t>(cy) * m_size_x] >= free_cell_;
   }
   /// S holds the cell occupied (staticOccupancy > 0.5: its log-odds of free below 0); false
   /// outside the grid. Inline: the people detector asks it for every cell around a detection.
   bool isStaticOccupied(int cx, int cy) const {
-    if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y) return false;
+    if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y)
+      return false;
     return isOccupiedValue(m_map[cx + static_cast<std::size_t>(cy) * m_size_x]);
   }
   /// isStaticOccupied's test of one raw S value (a cell of getRow(), say).
@@ -116,6 +118,15 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   /// way, during the last insertion. Valid until the next insertion or resize.
   const std::vector<std::uint32_t>& changedObjectCells() const { return changed_; }
   const ScanInsertStats& lastInsertStats() const { return last_stats_; }
+
+  /// The inner loop of every miss: the fastest this processor has (Auto: AVX2, else SSE2), or
+  /// one forced, process-wide, so that the tests can compare the paths cell by cell and a
+  /// benchmark can time each. Every path gives the same cells. A path the build or the processor
+  /// lacks runs as Auto.
+  enum class MissPath { Auto, Scalar, Sse2, Avx2 };
+  static void forceMissPath(MissPath path);
+  /// Whether this build on this processor runs `path` as itself.
+  static bool missPathAvailable(MissPath path);
 
   /// Counts over the whole grid (O(cells): for summaries, not per scan).
   struct CellCounts {
@@ -228,8 +239,8 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   std::vector<std::uint32_t> changed_;
   ScanInsertStats last_stats_;
   std::array<cellType, 256> miss_s_{}, miss_d_{};  // a miss's update, by the cell's bits
-  MissLanes lanes_{};         // the same as arithmetic, and the scan's mark
-  bool simd_steps_ = false;  // both steps fit a cell: lanes_ holds them
+  MissLanes lanes_{};                              // the same as arithmetic, and the scan's mark
+  bool simd_steps_ = false;                        // both steps fit a cell: lanes_ holds them
 
   // Per-scan scratch, kept to avoid reallocations.
   enum RayKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };
@@ -247,7 +258,7 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   };
   static constexpr std::size_t kWedgeBeams = 8;  // beam gaps per wedge
   std::vector<Beam> beams_;
-  RangeData range_;  // the scan of insertObservation(), worked out
+  RangeData range_;                                 // the scan of insertObservation(), worked out
   std::vector<std::pair<std::size_t, bool>> hits_;  // cell, S Free there before the scan
   std::vector<Wedge> wedges_;
   std::vector<GridPoint> polygon_;

@@ -93,6 +93,4 @@ std::size_t writeSimulation(const Scenario& scenario, const std::string& out_dir
 /// The world at t = 0 as a PNG: walls, objects, people and their paths, the robot's route.
 void renderWorldImage(const Scenario& scenario, const std::string& path);
 
-double wrapAngle(double a);
-
 }  // namespace dynamap::sim

@@ -1,6 +1,6 @@
 // The assignment solver on matrices whose optimum is known by hand.
 
-#include "dynamap/people/hungarian.h"
+#include "dynamap/base/hungarian.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "dynamap/people/hungarian.h"
+#include "dynamap/base/hungarian.h"
 
 #include <algorithm>
 #include <cmath>
