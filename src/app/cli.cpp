@@ -99,4 +99,36 @@ BagOptions bagOptions(const po::variables_map& vm) {
   return bag;
 }
 
+void addCarmenOptions(po::options_description& o, const std::string& prefix) {
+  const auto text = [&](const char* what) { return prefix + what; };
+  o.add_options()("skip-bad-lines", text("skip malformed lines of known types (counted in the "
+                                         "summary) instead of stopping at the first one")
+                                        .c_str())(
+      "fov", po::value<double>(),
+      text("field of view of every laser line [deg], overriding the PARAM lines and ROBOTLASER1 "
+           "fields; the angular step then follows from the beam count")
+          .c_str())(
+      "carmen-odometry", po::value<std::string>(),
+      text("the odometry stream: laser (each laser line's odometry fields; ROBOTLASER1: the "
+           "latest ODOM line) or odom (the ODOM lines); map: overrides [input] carmen_odometry, "
+           "import-carmen: laser unless given")
+          .c_str());
+}
+
+std::optional<CarmenOdometrySource> carmenOptions(const po::variables_map& vm,
+                                                  CarmenOptions& carmen) {
+  carmen.skip_bad_lines = vm.count("skip-bad-lines") > 0;
+  if (vm.count("fov")) {
+    carmen.fov_deg = vm["fov"].as<double>();
+    if (!(carmen.fov_deg > 0 && carmen.fov_deg <= 360))
+      throw UsageError("--fov: must be in (0, 360] degrees");
+  }
+  if (!vm.count("carmen-odometry")) return std::nullopt;
+  try {
+    return parseCarmenOdometry(vm["carmen-odometry"].as<std::string>());
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--carmen-odometry: ") + e.what());
+  }
+}
+
 }  // namespace dynamap::app

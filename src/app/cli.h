@@ -5,10 +5,12 @@
 #include <boost/program_options.hpp>
 
 #include <chrono>
+#include <optional>
 #include <string>
 
 #include "commands.h"
 #include "dynamap/input/bag_source.h"
+#include "dynamap/input/carmen_reader.h"
 
 namespace dynamap::app {
 
@@ -50,5 +52,12 @@ void addBagOptions(po::options_description& options, const std::string& prefix);
 /// The ROS bag options (--scan-topic, --odom-topic, --odom-frame, --base-frame, --gt-frame) of a
 /// parsed command line that declares them, as map and import-bag do.
 BagOptions bagOptions(const po::variables_map& vm);
+/// Declares the CARMEN options (--skip-bad-lines, --fov, --carmen-odometry), each meaning led
+/// by `prefix`, as map and import-carmen do.
+void addCarmenOptions(po::options_description& options, const std::string& prefix);
+/// --skip-bad-lines and --fov (UsageError unless in (0, 360]) of a parsed command line into
+/// `carmen`; the --carmen-odometry stream when given (UsageError unless laser or odom).
+std::optional<CarmenOdometrySource> carmenOptions(const po::variables_map& vm,
+                                                  CarmenOptions& carmen);
 
 }  // namespace dynamap::app

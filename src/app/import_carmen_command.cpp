@@ -36,18 +36,8 @@ po::options_description importOptions() {
       ("help,h", "print this help and exit")  //
       ("out,o", po::value<std::string>(),
        "the MRPT rawlog to write (observations only, gz-compressed). Its ground truth goes to "
-       "<OUT without .rawlog>.gt.txt, one 'timestamp x y phi' line per scan")  //
-      ("fov", po::value<double>(),
-       "field of view of every laser [deg], overriding the PARAM lines and ROBOTLASER1 fields; "
-       "the angular step then follows from the beam count. Default: PARAM "
-       "laser_front_laser_fov, else 180")  //
-      ("carmen-odometry", po::value<std::string>()->default_value("laser"),
-       "the odometry stream written as CObservationOdometry: laser (each laser line's odometry "
-       "fields; ROBOTLASER1: the latest ODOM line) or odom (the ODOM lines, with their "
-       "velocities), as dynamap map --carmen-odometry reads the log")  //
-      ("skip-bad-lines",
-       "skip malformed lines of known types (counted in the summary) instead of stopping at the "
-       "first one");
+       "<OUT without .rawlog>.gt.txt, one 'timestamp x y phi' line per scan");
+  addCarmenOptions(o, "");
   return o;
 }
 
@@ -65,18 +55,8 @@ ImportArgs parseImportArgs(const Args& args, bool& help) {
       "See docs/inputs.md (CARMEN logs).\n",
       "CARMEN log", vm, a.input, a.output);
   if (help) return {};
-  if (vm.count("fov")) {
-    a.carmen.fov_deg = vm["fov"].as<double>();
-    if (!(a.carmen.fov_deg > 0 && a.carmen.fov_deg <= 360)) {
-      throw UsageError("--fov must be in (0, 360] degrees");
-    }
-  }
-  a.carmen.skip_bad_lines = vm.count("skip-bad-lines") > 0;
-  try {
-    a.carmen.odometry = parseCarmenOdometry(vm["carmen-odometry"].as<std::string>());
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(std::string("--carmen-odometry: ") + e.what());
-  }
+  // The stream written as CObservationOdometry (laser unless --carmen-odometry says odom).
+  if (const auto odometry = carmenOptions(vm, a.carmen)) a.carmen.odometry = *odometry;
   return a;
 }
 

@@ -11,11 +11,11 @@
 #include <memory>
 
 #include "cli.h"
-#include "map_command.h"
 #include "dynamap/base/ini.h"
 #include "dynamap/base/printable.h"
 #include "dynamap/input/fixed_pose.h"
 #include "dynamap/outputs/map_job.h"
+#include "map_command.h"
 
 namespace dynamap::app {
 namespace {
@@ -49,13 +49,6 @@ void applyPoseOptions(const po::variables_map& vm, MapConfig& config) {
       throw UsageError(std::string("--poses: ") + e.what());
     }
   }
-  if (vm.count("carmen-odometry")) {
-    try {
-      config.carmen_odometry = parseCarmenOdometry(vm["carmen-odometry"].as<std::string>());
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--carmen-odometry: ") + e.what());
-    }
-  }
   if (vm.count("fixed-pose")) {
     try {
       config.fixed_pose = parseFixedPose(vm["fixed-pose"].as<std::string>());
@@ -84,18 +77,11 @@ po::options_description mapOptions() {
       "no-baseline",
       "do not build the plain MRPT grid of the same scans (mrpt_plain.png and the\n"
       "comparison in summary.json); saves its time")(
-      "skip-bad-lines",
-      "CARMEN input: skip malformed lines (counted in summary.json) instead "
-      "of stopping at the first")(
-      "fov", po::value<double>(),
-      "CARMEN input: field of view of every laser line [deg], overriding the log")(
-      "carmen-odometry", po::value<std::string>(),
-      "CARMEN input, poses odometry: laser (each laser line's odometry fields) | odom (the "
-      "ODOM lines interpolated to each scan's time); overrides [input] carmen_odometry")(
       "frames-every", po::value<long>(),
       "write frames/NNNNNN.png every N scans (and timelapse.mp4 with ffmpeg)")(
       "verbose,v", "print progress and a summary even when not on a terminal");
   addBagOptions(opts, "ROS bag input: ");
+  addCarmenOptions(opts, "CARMEN input: ");
   return opts;
 }
 
@@ -118,12 +104,8 @@ bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
     if (job.frames_every < 1)
       throw UsageError("--frames-every: must be a positive number of scans");
   }
-  job.carmen.skip_bad_lines = vm.count("skip-bad-lines") > 0;
-  if (vm.count("fov")) {
-    job.carmen.fov_deg = vm["fov"].as<double>();
-    if (!(job.carmen.fov_deg > 0 && job.carmen.fov_deg <= 360))
-      throw UsageError("--fov: must be in (0, 360] degrees");
-  }
+  // --carmen-odometry overrides [input] carmen_odometry.
+  if (const auto odometry = carmenOptions(vm, job.carmen)) job.config.carmen_odometry = *odometry;
   return true;
 }
 
@@ -157,7 +139,9 @@ void reportRun(const MapJob& job, const MapJobResult& r) {
 // checks it after each scan and leaves the output directory as it was.
 volatile std::sig_atomic_t g_stop_signal = 0;
 
-void onStopSignal(int sig) { g_stop_signal = sig; }
+void onStopSignal(int sig) {
+  g_stop_signal = sig;
+}
 
 // SIGINT, SIGTERM and SIGHUP end the run cleanly; a second one of them acts at once (the
 // handler is reset when it runs).
