@@ -93,7 +93,9 @@ std::vector<double> PoseGraph::pathThroughLoops(const std::vector<double>& path,
   dist[from] = 0;
   open.emplace(0.0, from);
   while (!open.empty()) {
-    const auto [d, k] = open.top();
+    // Not a structured binding: clang (make fuzz) refuses one captured by the lambda below.
+    const double d = open.top().first;
+    const std::size_t k = open.top().second;
     open.pop();
     if (d > dist[k]) continue;
     auto relax = [&](std::size_t m, double w) {
