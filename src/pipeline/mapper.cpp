@@ -12,10 +12,85 @@
 
 namespace dynamap {
 
+namespace {
+
+constexpr const char* kInput = "input";
+
+/// A key of [input], declared once: its meaning for the key table, how it is read (every error
+/// through IniFile::fail, naming the key), and when and how config.ini writes it.
+struct InputKey {
+  const char* name;
+  const char* unit;
+  const char* meaning;
+  const char* range;
+  std::string (*text)(const MapConfig&);  ///< the value as config.ini writes it
+  void (*read)(const IniFile&, const std::string& text, MapConfig&);
+  const char* comment;                ///< after the value in config.ini
+  bool (*written)(const MapConfig&);  ///< when config.ini holds the key
+};
+
+/// Reads `key`'s text through `parse`; a std::invalid_argument becomes the key's error.
+template <typename Parse>
+void readThrough(const IniFile& ini, const char* key, Parse parse) {
+  try {
+    parse();
+  } catch (const std::invalid_argument& e) {
+    ini.fail(kInput, key, e.what());
+  }
+}
+
+std::string shortest(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Keys written only when they differ from the default: the other runs' config.ini stay as
+// they were before the key existed.
+const std::vector<InputKey>& inputKeys() {
+  static const std::vector<InputKey> keys = {
+      {"poses", "", "where each scan's robot pose comes from",
+       "auto, simplemap, ground_truth, odometry, scan_matching, fixed, slam",
+       [](const MapConfig& c) { return toString(c.poses); },
+       [](const IniFile& ini, const std::string& t, MapConfig& c) {
+         readThrough(ini, "poses", [&] { c.poses = parsePoseSource(t); });
+       },
+       "auto | simplemap | ground_truth | odometry | scan_matching",
+       [](const MapConfig&) { return true; }},
+      {"fixed_pose", "", "x y phi [m m rad]: the pose of every scan with poses = fixed",
+       "three finite numbers", [](const MapConfig& c) { return formatFixedPose(c.fixed_pose); },
+       [](const IniFile& ini, const std::string& t, MapConfig& c) {
+         readThrough(ini, "fixed_pose", [&] { c.fixed_pose = parseFixedPose(t); });
+       },
+       "[m m rad] x y phi", [](const MapConfig& c) { return c.poses == PoseSource::Fixed; }},
+      {"pose_max_gap", "s",
+       "widest gap between two pose samples (ground truth, odometry, ODOM lines) a scan's pose "
+       "is interpolated across; 0: 3 x the samples' median spacing, at least 2 s",
+       "[0, 3600]", [](const MapConfig& c) { return shortest(c.pose_max_gap); },
+       [](const IniFile& ini, const std::string&, MapConfig& c) {
+         c.pose_max_gap = ini.getDouble(kInput, "pose_max_gap", 0);
+         requireInRange(ini.name(), kInput, "pose_max_gap", c.pose_max_gap, 0, 3600,
+                        "in [0, 3600]");
+       },
+       "[s]", [](const MapConfig& c) { return c.pose_max_gap != 0; }},
+      {"carmen_odometry", "",
+       "a CARMEN log's odometry for poses = odometry: laser (each laser line's odometry "
+       "fields) or odom (the ODOM lines, interpolated to each scan's time)",
+       "laser, odom", [](const MapConfig& c) { return toString(c.carmen_odometry); },
+       [](const IniFile& ini, const std::string& t, MapConfig& c) {
+         readThrough(ini, "carmen_odometry", [&] { c.carmen_odometry = parseCarmenOdometry(t); });
+       },
+       "laser | odom",
+       [](const MapConfig& c) { return c.carmen_odometry != CarmenOdometrySource::LaserLines; }}};
+  return keys;
+}
+
+}  // namespace
+
 MapConfig MapConfig::load(const IniFile& ini) {
   ini.requireKnownSections({DynamicMapOptions::kSection, InsertionOptions::kSection,
                             ObjectOptions::kSection, PeopleOptions::kSection,
-                            ScanMatchOptions::kSection, SlamOptions::kSection, "input"});
+                            ScanMatchOptions::kSection, SlamOptions::kSection, kInput});
   MapConfig c;
   c.map.load(ini);
   c.insertion.load(ini);
@@ -23,42 +98,20 @@ MapConfig MapConfig::load(const IniFile& ini) {
   c.people.load(ini);
   c.scan_matching.load(ini);
   c.slam.load(ini);
-  ini.requireKnownKeys("input", {"poses", "fixed_pose", "pose_max_gap", "carmen_odometry"});
-  const std::string poses = ini.getString("input", "poses", "auto");
-  try {
-    c.poses = parsePoseSource(poses);
-  } catch (const std::invalid_argument& e) {
-    ini.fail("input", "poses", e.what());
-  }
-  try {
-    c.fixed_pose = parseFixedPose(ini.getString("input", "fixed_pose", "0 0 0"));
-  } catch (const std::invalid_argument& e) {
-    ini.fail("input", "fixed_pose", e.what());
-  }
-  c.pose_max_gap = ini.getDouble("input", "pose_max_gap", 0);
-  requireInRange(ini.name(), "input", "pose_max_gap", c.pose_max_gap, 0, 3600, "in [0, 3600]");
-  try {
-    c.carmen_odometry = parseCarmenOdometry(ini.getString("input", "carmen_odometry", "laser"));
-  } catch (const std::invalid_argument& e) {
-    ini.fail("input", "carmen_odometry", e.what());
-  }
+  std::vector<std::string> names;
+  for (const InputKey& k : inputKeys()) names.push_back(k.name);
+  ini.requireKnownKeys(kInput, names);
+  const MapConfig defaults;
+  for (const InputKey& k : inputKeys())
+    k.read(ini, ini.getString(kInput, k.name, k.text(defaults)), c);
   return c;
 }
 
 void MapConfig::writeIni(std::ostream& out) const {
   out << "; the effective configuration of this run (reload it with --config)\n\n";
-  out << "[input]\n"
-      << "poses = " << toString(poses)
-      << "  ; auto | simplemap | ground_truth | odometry | scan_matching\n";
-  // Only a fixed-pose run has a fixed pose to reproduce; every other config.ini stays as it was.
-  if (poses == PoseSource::Fixed) {
-    out << "fixed_pose = " << formatFixedPose(fixed_pose) << "  ; [m m rad] x y phi\n";
-  }
-  // Like fixed_pose: written when it differs from the default, so other runs' files stay as
-  // they were.
-  if (pose_max_gap != 0) out << "pose_max_gap = " << pose_max_gap << "  ; [s]\n";
-  if (carmen_odometry != CarmenOdometrySource::LaserLines) {
-    out << "carmen_odometry = " << toString(carmen_odometry) << "  ; laser | odom\n";
+  out << "[input]\n";
+  for (const InputKey& k : inputKeys()) {
+    if (k.written(*this)) out << k.name << " = " << k.text(*this) << "  ; " << k.comment << "\n";
   }
   out << "\n";
   map.writeIni(out);
@@ -78,19 +131,10 @@ void MapConfig::writeIni(std::ostream& out) const {
 
 std::vector<OptionDoc> MapConfig::describe() {
   const MapConfig defaults;
-  std::vector<OptionDoc> docs = {
-      {"input", "poses", toString(defaults.poses), "", "where each scan's robot pose comes from",
-       "auto, simplemap, ground_truth, odometry, scan_matching, fixed, slam"},
-      {"input", "fixed_pose", formatFixedPose(defaults.fixed_pose), "",
-       "x y phi [m m rad]: the pose of every scan with poses = fixed", "three finite numbers"},
-      {"input", "pose_max_gap", "0", "s",
-       "widest gap between two pose samples (ground truth, odometry, ODOM lines) a scan's pose "
-       "is interpolated across; 0: 3 x the samples' median spacing, at least 2 s",
-       "[0, 3600]"},
-      {"input", "carmen_odometry", toString(defaults.carmen_odometry), "",
-       "a CARMEN log's odometry for poses = odometry: laser (each laser line's odometry "
-       "fields) or odom (the ODOM lines, interpolated to each scan's time)",
-       "laser, odom"}};
+  std::vector<OptionDoc> docs;
+  for (const InputKey& k : inputKeys()) {
+    docs.push_back({kInput, k.name, k.text(defaults), k.unit, k.meaning, k.range});
+  }
   for (auto&& more : {DynamicMapOptions::table().describe(defaults.map),
                       InsertionOptions::table().describe(defaults.insertion),
                       ObjectOptions::table().describe(defaults.objects),
