@@ -241,7 +241,7 @@ test-asan: deps
 # Run longer with FUZZ_SECONDS=3600 make fuzz, or one target directly:
 #   build-fuzz/fuzz_rawlog -max_total_time=3600 build-fuzz/corpus/rawlog fuzz/seeds/rawlog
 # A crash leaves its input in build-fuzz/crashes/; fix it, then keep the input in
-# tests/fuzz_regressions/<target>/ (faults_test replays every file there).
+# tests/fuzz_regressions/<target>/ (fuzz_regressions_test replays every file there).
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := scenario carmen rawlog simplemap bag mcap db3 baseline config
