@@ -1,21 +1,15 @@
 // dynamap eval: a mapping result scored against the simulator's ground truth.
-// The metric definitions live in src/evaluation.cpp and docs/evaluation.md; this file reads the
-// files, runs the mapper and the plain MRPT baseline when needed, and writes the reports.
+// The metrics are defined in src/evaluation/ and docs/evaluation.md, the truth and result files
+// read by evaluation/result_files, the reports written by eval_report; this file runs the mapper
+// and the plain MRPT baseline when needed and puts the evaluation together.
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
-#include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <set>
-#include <sstream>
 
 #include "cli.h"
 #include "dynamap/base/ini.h"

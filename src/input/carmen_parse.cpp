@@ -3,26 +3,21 @@
 // the MRPT scan of a laser line. The streaming reader and the ScanSource are in carmen_reader.cpp.
 
 #include <mrpt/core/Clock.h>
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/poses/CPose3D.h>
 
-#include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <limits>
-#include <set>
+#include <memory>
+#include <stdexcept>
+#include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "carmen_text.h"
-#include "dynamap/base/ini.h"
-#include "dynamap/input/line_reader.h"
 
 namespace dynamap {
 

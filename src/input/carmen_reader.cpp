@@ -2,24 +2,16 @@
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/poses/CPose3D.h>
 
 #include <algorithm>
-#include <cctype>
-#include <charconv>
-#include <cmath>
-#include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
+#include <deque>
+#include <exception>
 #include <filesystem>
-#include <fstream>
-#include <limits>
+#include <memory>
 #include <set>
-#include <string_view>
+#include <string>
 
 #include "carmen_text.h"
-#include "dynamap/base/ini.h"
 #include "dynamap/input/line_reader.h"
 
 namespace dynamap {

@@ -11,7 +11,6 @@
 #include <stdexcept>
 
 #include "dynamap/mapping/polygon_fill.h"
-#include "dynamap/mapping/ray_cast.h"
 
 namespace dynamap {
 namespace {

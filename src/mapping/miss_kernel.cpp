@@ -50,12 +50,6 @@ inline std::uint32_t popcount16(std::uint32_t x) {
 inline __m128i loadLanes(const cellType (&lanes)[16]) {
   return _mm_load_si128(reinterpret_cast<const __m128i*>(lanes));
 }
-#endif
-
-}  // namespace
-
-#if defined(__SSE2__)
-namespace {
 
 // The miss of 16 cells from `i`, those this scan has not updated yet: how many it updated.
 // Cells it already updated (stamped) are left as they are, so blocks may overlap. (A template
@@ -90,9 +84,9 @@ struct MissBlock {
     return popcount16(static_cast<std::uint32_t>(fresh_bits));
   }
 };
+#endif
 
 }  // namespace
-#endif
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define DYNAMAP_AVX2_SPANS 1
@@ -159,6 +153,7 @@ bool hasAvx2() {
 
 namespace {
 
+// The path forceMissPath() set: read once per span, so a relaxed load costs nothing measurable.
 std::atomic<DynamicGridMap::MissPath> g_forced{DynamicGridMap::MissPath::Auto};
 
 }  // namespace
@@ -228,4 +223,5 @@ std::uint32_t DynamicGridMap::MissKernel::ray(int x0, int y0, int x1, int y1,
   traceRayIndex(x0, y0, x1, y1, size_x, [k, &freed](std::size_t i) { freed += k.visit(i); });
   return freed;
 }
+
 }  // namespace dynamap

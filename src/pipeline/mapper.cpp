@@ -45,8 +45,8 @@ std::string shortest(double v) {
   return s.str();
 }
 
-// Keys written only when they differ from the default: the other runs' config.ini stay as
-// they were before the key existed.
+// poses is always written; the other keys only when they differ from the default, so the
+// other runs' config.ini stay as they were before the key existed.
 const std::vector<InputKey>& inputKeys() {
   static const std::vector<InputKey> keys = {
       {"poses", "", "where each scan's robot pose comes from",
