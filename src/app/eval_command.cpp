@@ -33,7 +33,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* const kUsage =
+const char* const kEvalUsage =
     "usage: dynamap eval [--scenario FILE] --truth PREFIX --result DIR [--config FILE]\n"
     "       dynamap eval --summary DIR...\n"
     "       dynamap eval --truth PREFIX --trajectory FILE\n"
@@ -342,7 +342,7 @@ int runEval(const Args& args) {
   const po::options_description opts = evalOptions();
   po::positional_options_description positional;
   po::variables_map vm;
-  if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
+  if (!parseArgs(args, opts, positional, vm, kEvalUsage)) return kExitOk;
 
   if (vm.count("summary")) {
     if (vm.count("scenario") || vm.count("truth") || vm.count("result")) {

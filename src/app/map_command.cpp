@@ -20,7 +20,7 @@
 namespace dynamap::app {
 namespace {
 
-const char* const kUsage =
+const char* const kMapUsage =
     "usage: dynamap map --input FILE [--config FILE] [--out DIR] [--poses SOURCE]\n"
     "                   [--fixed-pose \"X Y PHI\"] [--frames-every N] [--no-baseline]\n"
     "                   [--skip-bad-lines] [--fov DEG] [--carmen-odometry laser|odom]\n"
@@ -90,7 +90,7 @@ po::options_description mapOptions() {
 bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
   const po::options_description opts = mapOptions();
   po::variables_map vm;
-  if (!parseArgs(args, opts, {}, vm, kUsage)) return false;
+  if (!parseArgs(args, opts, {}, vm, kMapUsage)) return false;
   if (vm.count("config"))
     job.config = MapConfig::load(IniFile::fromFile(vm["config"].as<std::string>()));
   applyPoseOptions(vm, job.config);

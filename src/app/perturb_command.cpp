@@ -22,7 +22,7 @@
 namespace dynamap::app {
 namespace {
 
-const char* const kUsage =
+const char* const kPerturbUsage =
     "usage: dynamap perturb --input LOG --out DIR [--seed N] [--trans-noise F] [--rot-noise F]\n"
     "                       [--rot-per-m F] [--heading-bias F]\n"
     "       dynamap perturb --input LOG --out DIR --add-objects SPEC [--name NAME] [--config FILE]\n\n"
@@ -113,7 +113,7 @@ int runPerturb(const Args& args) {
   const po::options_description opts = perturbOptions();
   po::positional_options_description positional;
   po::variables_map vm;
-  if (!parseArgs(args, opts, positional, vm, kUsage)) return kExitOk;
+  if (!parseArgs(args, opts, positional, vm, kPerturbUsage)) return kExitOk;
   if (vm.count("add-objects")) return addObjects(vm);
   onlyWithAddObjects(vm);
   const Noise noise = noiseOf(vm);

@@ -18,7 +18,7 @@ namespace dynamap::app {
 #ifdef DYNAMAP_HAVE_ROSBAG
 namespace {
 
-const char* const kUsage =
+const char* const kTrainLegsUsage =
     "usage: dynamap train-legs --positive BAG[:TOPIC]... --negative BAG[:TOPIC]... --out MODEL [--flat FOREST]\n"
     "                          [--validate-positive BAG[:TOPIC]...] [--validate-negative ...]\n\n"
     "Each --positive bag holds LaserScans (TOPIC, default /training_scan) and, recorded just\n"
@@ -117,7 +117,7 @@ int runTrainLegs(const Args& args) {
       "flat", po::value<std::string>(), "also write its trees laid out flat (what dynamap builds in)")(
       "samples", po::value<std::string>(), "also write every sample's features to this CSV");
   po::variables_map vm;
-  if (!parseArgs(args, opts, {}, vm, kUsage)) return kExitOk;
+  if (!parseArgs(args, opts, {}, vm, kTrainLegsUsage)) return kExitOk;
   const auto factors = vm["subsample"].as<std::vector<std::size_t>>();
   for (std::size_t k : factors) {
     if (k < 1 || k > 10) throw UsageError("--subsample: each factor must be in [1, 10]");

@@ -10,7 +10,6 @@
 namespace dynamap {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Cell borders computed as x_min + i·res carry rounding error; a wall lying exactly on a border
 // must touch the cells on both sides of it, whatever that rounding did.
 constexpr double kBorderEps = 1e-9;

@@ -12,8 +12,6 @@
 namespace dynamap {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 BodyKey keyOf(const TruthRow& r) {
   return {r.kind, r.id};
 }

@@ -6,10 +6,11 @@
 #include <cmath>
 #include <vector>
 
+#include "dynamap/base/angles.h"
+
 namespace dynamap {
 namespace {
 
-constexpr double kDegToRad = M_PI / 180.0;
 constexpr int kReach = 3;  // [cells] a point scores down to 0 this far from an occupied cell
 
 /// The search's scores over a window of the grid: 1 on an occupied cell, falling linearly to 0

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "correlative_search.h"
+#include "dynamap/base/angles.h"
 #include "dynamap/base/ini.h"
 #include "dynamap/base/option_table.h"
 #include "dynamap/localization/icp_module.h"
@@ -23,7 +24,6 @@
 namespace dynamap {
 namespace {
 
-constexpr double kDegToRad = M_PI / 180.0;
 constexpr int kNormalRadius = 3;    // [cells] a wall's normal comes from a 7x7 neighbourhood
 constexpr int kNormalMinCells = 4;  // ... of at least this many occupied cells
 constexpr double kNormalMaxSpreadRatio = 0.2;  // ... spread across at most this along

@@ -6,17 +6,12 @@
 #include <cmath>
 #include <ostream>
 
+#include "dynamap/base/angles.h"
 #include "dynamap/base/ini.h"
 #include "dynamap/base/option_table.h"
 #include "dynamap/localization/field_matcher.h"
 
 namespace dynamap {
-namespace {
-
-constexpr double kDegToRad = M_PI / 180.0;
-
-}  // namespace
-
 namespace {
 
 using O = SlamOptions;

@@ -13,7 +13,6 @@ namespace dynamap::sim {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double number(const std::string& key, const std::string& value) {
   std::size_t used = 0;

@@ -19,7 +19,6 @@
 namespace dynamap::sim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180;
 
 // Spreads a small seed over 64 bits (SplitMix64), so seeds 1 and 2 start unrelated streams.

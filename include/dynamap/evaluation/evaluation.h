@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,9 @@
 #include "dynamap/sim/world.h"
 
 namespace dynamap {
+
+/// The value of an undefined figure.
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // --- inputs ----------------------------------------------------------------------------------
 
