@@ -24,7 +24,7 @@ add_custom_target(dynamap_python_files ALL DEPENDS ${DYNAMAP_PY_COPIES})
 add_dependencies(dynamap_python dynamap_python_files)
 
 # pytest (python/tests/), one ctest entry per file, each with the build's module and program.
-if(DYNAMAP_BUILD_TESTS)
+if(DYNAMAP_TESTS_ON)
   foreach(t bindings stream docs batch cluster)
     add_test(NAME Python.${t}
       COMMAND ${DYNAMAP_PYTHON_EXECUTABLE} -m pytest -q -p no:cacheprovider
