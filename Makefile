@@ -1,7 +1,7 @@
 # dynamap — top-level wrapper around CMake.
 #
-#   make demo    install what is missing, build only the dynamap program, map the bundled rawlog,
-#                say where the pictures are
+#   make demo    install what is missing, build a dynamap with map and config only into
+#                build-demo/, map the bundled rawlog, say where the pictures are
 #   make test    install what is missing, build, run every test (ctest; the Python module's
 #                pytest files among them)
 #   make bench   install, build, time dynamap against plain MRPT grid insertion, then the fixed
@@ -104,15 +104,19 @@ test: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 	cd $(BUILD_DIR) && ctest --output-on-failure --no-tests=error -j $(JOBS)
 
-# Only what the demo runs: the dynamap program (and the ICP module it loads), not the
-# tests, benchmarks and Python module, which take most of a full build; and only the packages
-# the program needs.
+# Only what the demo runs, in its own build directory (build-demo/): the dynamap program with
+# `map` and `config` (-DDYNAMAP_DEMO=ON: no ROS bags, tests, benchmarks or Python module, which
+# take most of a full build), and only the packages that program needs. make build and make test
+# build the whole program into build/.
+DEMO_DIR ?= build-demo
+DEMO_PACKAGES := $(filter-out $(ROSBAG_PACKAGES),$(CORE_PACKAGES))
 demo:
-	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(CORE_PACKAGES)"
-	@$(MAKE) --no-print-directory $(BUILD_DIR)/CMakeCache.txt
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target dynamap
-	$(DYNAMAP) map --config config/default.ini --input $(DEMO_INPUT) --out $(DEMO_OUT)
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(DEMO_PACKAGES)"
+	cmake -S . -B $(DEMO_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DDYNAMAP_DEMO=ON > /dev/null
+	cmake --build $(DEMO_DIR) -j $(JOBS) --target dynamap
+	$(DEMO_DIR)/dynamap map --config config/default.ini --input $(DEMO_INPUT) --out $(DEMO_OUT)
 	@echo "dynamap: done; pictures in $(DEMO_OUT)/: static.png (the static map S), dynamic.png (D), overlay.png"
+	@echo "dynamap: $(DEMO_DIR)/dynamap has map and config only; make build builds every command into $(BUILD_DIR)/"
 
 # The readers timed after the insertion figures: one log of each format at hand. Last, the fixed
 # cost of a run (the bundled tiny log) beside a process that only loads MRPT's grid library.
@@ -328,4 +332,4 @@ format:
 	clang-format -i $$(git ls-files '*.h' '*.cpp')
 
 clean:
-	rm -rf $(BUILD_DIR) $(ASAN_DIR) $(FUZZ_DIR) out
+	rm -rf $(BUILD_DIR) $(DEMO_DIR) $(ASAN_DIR) $(FUZZ_DIR) out

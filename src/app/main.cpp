@@ -19,6 +19,9 @@ struct Command {
 const Command kCommands[] = {
     {"map", "build the static map, the dynamic map and the object table from a log",
      dynamap::app::runMap},
+    {"config", "print the built-in configuration (an .ini to start from) or its table of keys",
+     dynamap::app::runConfig},
+#ifndef DYNAMAP_MAP_ONLY
     {"simulate", "run a scenario file: a rawlog with exact ground truth",
      dynamap::app::runSimulate},
     {"import-carmen", "convert a CARMEN log (.log[.gz]) to an MRPT rawlog with its timestamps",
@@ -29,13 +32,18 @@ const Command kCommands[] = {
      dynamap::app::runExportBag},
     {"eval", "score a map result against a scenario's ground truth (paper's Table 3, SA/DA)",
      dynamap::app::runEval},
-    {"config", "print the built-in configuration (an .ini to start from) or its table of keys",
-     dynamap::app::runConfig},
     {"perturb", "a log with known poses as a rawlog whose odometry drifts, and its truth",
      dynamap::app::runPerturb},
     {"train-legs", "grow the people detector's leg classifier from ROS bags of marked legs",
      dynamap::app::runTrainLegs},
+#endif
 };
+
+#ifdef DYNAMAP_MAP_ONLY
+// The commands a demo build (make demo, -DDYNAMAP_DEMO=ON) leaves out.
+const char* const kFullBuildOnly[] = {"simulate", "import-carmen", "import-bag", "export-bag",
+                                      "eval", "perturb", "train-legs"};
+#endif
 
 void printHelp(std::ostream& out) {
   out << "dynamap — maps of environments in which things move\n\n"
@@ -77,6 +85,14 @@ int main(int argc, char** argv) {
       return kExitError;
     }
   }
+#ifdef DYNAMAP_MAP_ONLY
+  for (const char* c : kFullBuildOnly) {
+    if (name != c) continue;
+    std::cerr << "dynamap: '" << name << "' is not in this build, which has map and config only "
+              << "(make demo); make build builds every command into build/\n";
+    return kExitUsage;
+  }
+#endif
   std::cerr << "dynamap: unknown command '" << name << "' (see dynamap --help)\n";
   return kExitUsage;
 }

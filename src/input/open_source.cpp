@@ -84,6 +84,7 @@ bool hasOdometry(const std::string& path, const InputOptions& options) {
     const BagContents c = BagReader(path, options.bag).contents();
     return c.odometry;
 #else
+    (void)options;
     return true;  // openBag says why it cannot read it
 #endif
   }
