@@ -15,42 +15,43 @@ struct Command {
   int (*run)(const dynamap::app::Args&);
 };
 
+// A demo build (make demo, -DDYNAMAP_DEMO=ON) has map and config only: its other commands keep
+// their line without a body, so that asking for one says how to get it.
+#ifdef DYNAMAP_MAP_ONLY
+#define DYNAMAP_FULL_BUILD(run) nullptr
+#else
+#define DYNAMAP_FULL_BUILD(run) run
+#endif
+
 // One line per subcommand.
 const Command kCommands[] = {
     {"map", "build the static map, the dynamic map and the object table from a log",
      dynamap::app::runMap},
+    {"simulate", "run a scenario file: a rawlog with exact ground truth",
+     DYNAMAP_FULL_BUILD(dynamap::app::runSimulate)},
+    {"import-carmen", "convert a CARMEN log (.log[.gz]) to an MRPT rawlog with its timestamps",
+     DYNAMAP_FULL_BUILD(dynamap::app::runImportCarmen)},
+    {"import-bag", "convert a ROS bag (ROS 1 .bag, ROS 2 .mcap/.db3) to an MRPT rawlog",
+     DYNAMAP_FULL_BUILD(dynamap::app::runImportBag)},
+    {"export-bag", "write a log as a ROS 2 bag (.mcap or .db3: LaserScan, /tf, /tf_static)",
+     DYNAMAP_FULL_BUILD(dynamap::app::runExportBag)},
+    {"eval", "score a map result against a scenario's ground truth (paper's Table 3, SA/DA)",
+     DYNAMAP_FULL_BUILD(dynamap::app::runEval)},
     {"config", "print the built-in configuration (an .ini to start from) or its table of keys",
      dynamap::app::runConfig},
-#ifndef DYNAMAP_MAP_ONLY
-    {"simulate", "run a scenario file: a rawlog with exact ground truth",
-     dynamap::app::runSimulate},
-    {"import-carmen", "convert a CARMEN log (.log[.gz]) to an MRPT rawlog with its timestamps",
-     dynamap::app::runImportCarmen},
-    {"import-bag", "convert a ROS bag (ROS 1 .bag, ROS 2 .mcap/.db3) to an MRPT rawlog",
-     dynamap::app::runImportBag},
-    {"export-bag", "write a log as a ROS 2 bag (.mcap or .db3: LaserScan, /tf, /tf_static)",
-     dynamap::app::runExportBag},
-    {"eval", "score a map result against a scenario's ground truth (paper's Table 3, SA/DA)",
-     dynamap::app::runEval},
     {"perturb", "a log with known poses as a rawlog whose odometry drifts, and its truth",
-     dynamap::app::runPerturb},
+     DYNAMAP_FULL_BUILD(dynamap::app::runPerturb)},
     {"train-legs", "grow the people detector's leg classifier from ROS bags of marked legs",
-     dynamap::app::runTrainLegs},
-#endif
+     DYNAMAP_FULL_BUILD(dynamap::app::runTrainLegs)},
 };
-
-#ifdef DYNAMAP_MAP_ONLY
-// The commands a demo build (make demo, -DDYNAMAP_DEMO=ON) leaves out.
-const char* const kFullBuildOnly[] = {"simulate", "import-carmen", "import-bag", "export-bag",
-                                      "eval", "perturb", "train-legs"};
-#endif
 
 void printHelp(std::ostream& out) {
   out << "dynamap — maps of environments in which things move\n\n"
          "usage: dynamap <command> [options]     (dynamap <command> --help for its options)\n\n"
          "commands:\n";
   for (const auto& c : kCommands)
-    out << "  " << c.name << std::string(16 - std::string(c.name).size(), ' ') << c.summary << "\n";
+    if (c.run != nullptr)
+      out << "  " << c.name << std::string(16 - std::string(c.name).size(), ' ') << c.summary << "\n";
   out << "\nexit status: 0 success, 1 error, 2 bad command line, 3 bad configuration,\n"
          "             4 input ended in a fault (outputs cover the part before it)\n";
 }
@@ -71,6 +72,11 @@ int main(int argc, char** argv) {
   const Args args(argv + 2, argv + argc);
   for (const auto& c : kCommands) {
     if (name != c.name) continue;
+    if (c.run == nullptr) {
+      std::cerr << "dynamap: '" << name << "' is not in this build, which has map and config only "
+                << "(make demo); make build builds every command into build/\n";
+      return kExitUsage;
+    }
     try {
       return c.run(args);
     } catch (const UsageError& e) {
@@ -85,14 +91,6 @@ int main(int argc, char** argv) {
       return kExitError;
     }
   }
-#ifdef DYNAMAP_MAP_ONLY
-  for (const char* c : kFullBuildOnly) {
-    if (name != c) continue;
-    std::cerr << "dynamap: '" << name << "' is not in this build, which has map and config only "
-              << "(make demo); make build builds every command into build/\n";
-    return kExitUsage;
-  }
-#endif
   std::cerr << "dynamap: unknown command '" << name << "' (see dynamap --help)\n";
   return kExitUsage;
 }

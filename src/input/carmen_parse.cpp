@@ -18,14 +18,13 @@
 #include <vector>
 
 #include "carmen_text.h"
+#include "dynamap/base/angles.h"
 
 namespace dynamap {
 
 using carmen::formatDeg;
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // Fields after an old-format laser's ranges: x y theta odom_x odom_y odom_theta ipc host logger.
 constexpr std::size_t kOldLaserTail = 9;
@@ -334,9 +333,9 @@ bool CarmenParams::applyParam(const std::string& name, const std::string& value,
                              " is no angle of a laser (over 360 deg)");
     }
     const bool radians = k.field == &CarmenLaserParams::fov_deg && v <= kMaxRadianFov;
-    (this->*k.laser).*k.field = radians ? v / kDeg : v;
+    (this->*k.laser).*k.field = radians ? v / kDegToRad : v;
     if (radians && note) {
-      *note = "PARAM " + name + " " + value + " read as radians (" + formatDeg(v / kDeg) +
+      *note = "PARAM " + name + " " + value + " read as radians (" + formatDeg(v / kDegToRad) +
               " deg): no laser spans under 6.3 deg; --fov DEG overrides it";
     }
     return true;
@@ -347,11 +346,11 @@ bool CarmenParams::applyParam(const std::string& name, const std::string& value,
 LaserGeometry laserGeometry(std::size_t beams, const CarmenLaserParams& params,
                             const CarmenOptions& options) {
   const bool overridden = options.fov_deg > 0;
-  const double fov = (overridden ? options.fov_deg : params.fov_deg.value_or(180.0)) * kDeg;
+  const double fov = (overridden ? options.fov_deg : params.fov_deg.value_or(180.0)) * kDegToRad;
   LaserGeometry g;
   g.start = -fov / 2;
   if (!overridden && params.resolution_deg) {
-    g.step = *params.resolution_deg * kDeg;
+    g.step = *params.resolution_deg * kDegToRad;
   } else {
     // An odd count has a beam at each end of the fov (181, 361); an even one stops a step short.
     g.step = fov / static_cast<double>(beams % 2 == 1 ? beams - 1 : beams);

@@ -13,7 +13,6 @@ namespace dynamap::sim {
 
 namespace {
 
-
 double number(const std::string& key, const std::string& value) {
   std::size_t used = 0;
   double v = 0;

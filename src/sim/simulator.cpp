@@ -19,8 +19,6 @@
 namespace dynamap::sim {
 namespace {
 
-constexpr double kDeg = kPi / 180;
-
 // Spreads a small seed over 64 bits (SplitMix64), so seeds 1 and 2 start unrelated streams.
 std::uint64_t splitMix(std::uint64_t x) {
   x += 0x9E3779B97F4A7C15ULL;
@@ -62,7 +60,7 @@ RobotPath::RobotPath(const RobotSpec& spec) : loop_(spec.loop) {
     if (i + 1 == drives && !loop_) break;
     const double turn = wrapAngle(heading(i + 1) - p.phi);
     if (turn != 0) {
-      const double dt = std::abs(turn) / (spec.turn_rate_dps * kDeg);
+      const double dt = std::abs(turn) / (spec.turn_rate_dps * kDegToRad);
       legs_.push_back({t, t + dt, p, 0, 0, turn});
       t += dt;
       p.phi = heading(i + 1);
@@ -100,7 +98,7 @@ Simulator::Simulator(const Scenario& scenario)
   last_pose_ = path_.at(0);
   odometry_ = last_pose_;
   // The aperture as MRPT stores it (float), so the angles here are the ones readers compute.
-  const double aperture = static_cast<float>(sc_.laser.fov_deg * kDeg);
+  const double aperture = static_cast<float>(sc_.laser.fov_deg * kDegToRad);
   const int n = sc_.laser.beams;
   for (int i = 0; i < n; ++i) angles_.push_back(-aperture / 2 + i * aperture / (n - 1));
 }
@@ -126,7 +124,7 @@ bool Simulator::next(ScanTruth& out) {
 
   // The laser: every beam cast exactly, noise drawn for every beam whether it hit or not.
   out.sensor =
-      compose(out.pose, sc_.laser.mount.x, sc_.laser.mount.y, sc_.laser.mount_yaw_deg * kDeg);
+      compose(out.pose, sc_.laser.mount.x, sc_.laser.mount.y, sc_.laser.mount_yaw_deg * kDegToRad);
   out.bodies = bodiesAt(sc_, out.t);
   out.hits.assign(out.bodies.size(), 0);
   out.angles = angles_;
@@ -159,11 +157,11 @@ mrpt::obs::CObservation2DRangeScan makeScan(const Scenario& sc, const ScanTruth&
   mrpt::obs::CObservation2DRangeScan scan;
   scan.sensorLabel = "LASER";
   scan.timestamp = stamp;
-  scan.aperture = static_cast<float>(sc.laser.fov_deg * kDeg);
+  scan.aperture = static_cast<float>(sc.laser.fov_deg * kDegToRad);
   scan.rightToLeft = true;
   scan.maxRange = static_cast<float>(sc.laser.max_range_m);
   scan.stdError = static_cast<float>(sc.laser.range_noise_std_m);
-  scan.sensorPose = pose3({sc.laser.mount.x, sc.laser.mount.y, sc.laser.mount_yaw_deg * kDeg});
+  scan.sensorPose = pose3({sc.laser.mount.x, sc.laser.mount.y, sc.laser.mount_yaw_deg * kDegToRad});
   scan.resizeScan(st.ranges.size());
   for (std::size_t i = 0; i < st.ranges.size(); ++i) {
     scan.setScanRange(i, st.ranges[i]);
