@@ -28,6 +28,7 @@ void ObjectTracker::update(const DynamicGridMap& map, const ScanView& view, doub
   if (!view.empty()) sensor_x_ = view.x, sensor_y_ = view.y;
   map_ = &map;  // for the walls viewOfShape asks about, during this update
   collectPoints(map, view);
+  measureOutlines(view);
   // 3. Objects whose cells all faded were seen gone: disappeared.
   dropLostTracks(t, scan_index);
   // 4. Places left by unseen moves: seen free ends them, seen occupied revives them.
@@ -142,8 +143,9 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
     // Count only scans that left its size as it was: an object is judged once its size has
     // settled (it is all there, and the robot has seen enough of it to tell its size).
     tent->run.pass(tent->shape.size, options_.settle_size);
-    double outline = 0, gap = 0;
-    if (measureOutline(view, key, tent->shape, outline, gap)) tent->outline.add(outline, gap);
+    if (const auto o = outline_now_.find(key); o != outline_now_.end()) {
+      tent->outline.add(o->second.first, o->second.second);
+    }
     if (tent->run.passes < options_.confirm_scans && tent->outline.count < options_.report_scans) {
       continue;
     }
@@ -297,9 +299,16 @@ void ObjectTracker::settle(int key, const ScanView& view, double t, std::size_t 
     object(current).state = ObjectState::Relabeled;
   }
   reviewing_.erase(key);  // its own claim is no obstacle
-  const int id = pickIdentity(s, r.exclude_id, -1, view, t);
+  const ShapeEstimate& judged = s;
+  const int id = pickIdentity(judged, r.exclude_id, -1, view, t);
   object(current) = now;
-  if (id == (r.claimed ? current : 0)) {
+  // No other known object fits, but the claimed one's size still does (a far one, say, whose
+  // size another object's comes close to) and its old place is not seen occupied: nothing
+  // contradicts the report.
+  const bool still_fits = r.claimed && id == 0 &&
+                          std::abs(judged.size - r.before.shape.size) <= options_.size_tolerance &&
+                          !leftPlaceSeenOccupied(current, key);
+  if (id < 0 || still_fits || id == (r.claimed ? current : 0)) {
     c.review.reset();  // the identity stands
     return;
   }
@@ -362,6 +371,27 @@ bool ObjectTracker::measureOutline(const ScanView& view, int key, const ShapeEst
   // The outline is this object's: no larger than an object, and holding its cells.
   const double off = std::hypot(outline.cx - s.cx, outline.cy - s.cy);
   return size <= options_.max_size && s.size <= size + gap && off <= 0.5 * size + resolution_;
+}
+
+bool ObjectTracker::leftPlaceSeenOccupied(int id, int key) const {
+  for (const auto& kv : tracks_) {
+    const Stale* st = std::get_if<Stale>(&kv.second.state);
+    if (st && st->object_id == id && st->moved_to == key && st->seen_occupied > 0) return true;
+  }
+  return false;
+}
+
+void ObjectTracker::measureOutlines(const ScanView& view) {
+  outline_now_.clear();
+  for (const auto& kb : beam_on_) {
+    Track& tr = tracks_[kb.first];
+    double size = 0, gap = 0;
+    if (tr.isStale() || !measureOutline(view, kb.first, shapeOf(tr), size, gap)) continue;
+    outline_now_[kb.first] = {size, gap};
+    tr.outline.add(size, gap);
+    refresh(tr, resolution_);
+    touched_.insert(kb.first);  // its size may now pass the filters
+  }
 }
 
 bool ObjectTracker::underReview(int id) const {

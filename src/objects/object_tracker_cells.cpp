@@ -168,12 +168,14 @@ void ObjectTracker::rebuild(const DynamicGridMap& map, int key,
 
 void ObjectTracker::refresh(Track& tr, double res) {
   if (tr.cells.empty()) return;
-  const ShapeEstimate s = measureShape(tr, res, sensor_x_, sensor_y_, options_);
+  ShapeEstimate s = measureShape(tr, res, sensor_x_, sensor_y_, options_);
+  applyOutline(tr.outline, s);
   if (Confirmed* c = tr.confirmed()) {
+    ShapeEstimate& row = object(c->id).shape;
     // A fading object keeps the estimate made from the most cells: its last cells are a part.
-    if (s.cells < c->best_cells) return;
+    if (s.cells < c->best_cells) return applyOutline(tr.outline, row);
     c->best_cells = s.cells;
-    object(c->id).shape = s;
+    row = s;
     return;
   }
   if (Stale* st = tr.stale()) st->best_cells = std::max(st->best_cells, s.cells);

@@ -68,6 +68,16 @@ double OutlineSizes::error() const {
   return std::max(spread, 0.5 * gap) / std::sqrt(static_cast<double>(count));
 }
 
+void applyOutline(const OutlineSizes& outline, ShapeEstimate& s) {
+  // A circle fitted to its arc measures it; only the width of a part seen falls short.
+  if (outline.count == 0 || s.circle || outline.size() <= s.size) return;
+  s.size = outline.size();
+  s.x_min = s.cx - 0.5 * s.size;
+  s.x_max = s.cx + 0.5 * s.size;
+  s.y_min = s.cy - 0.5 * s.size;
+  s.y_max = s.cy + 0.5 * s.size;
+}
+
 ShapeEstimate* Track::ownShape() {
   if (Tentative* t = tentative()) return &t->shape;
   if (Stale* s = stale()) return &s->shape;

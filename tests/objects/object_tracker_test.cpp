@@ -19,8 +19,8 @@ struct Cylinder {
 
 // A scan from `pose` in the room [-3, 3]^2 with cylinders in it.
 mrpt::obs::CObservation2DRangeScan::Ptr roomScan(const mrpt::poses::CPose2D& pose,
-                                                 const std::vector<Cylinder>& cylinders) {
-  const int n = 361;
+                                                 const std::vector<Cylinder>& cylinders,
+                                                 int n = 361) {
   const double aperture = M_PI;
   auto ranges = test::roomRanges(-3, 3, -3, 3, pose, n, aperture);
   for (const Cylinder& c : cylinders) {
@@ -50,11 +50,12 @@ struct TrackerRun {
   DynamicGridMap map;
   ObjectTracker tracker{quickMoves()};
   std::size_t index = 0;
+  int beams = 361;  // over 180 degrees
   void steps(int n, const mrpt::poses::CPose2D& pose, const std::vector<Cylinder>& cylinders) {
     for (int i = 0; i < n; ++i) step(pose, cylinders);
   }
   void step(const mrpt::poses::CPose2D& pose, const std::vector<Cylinder>& cylinders) {
-    const auto scan = roomScan(pose, cylinders);
+    const auto scan = roomScan(pose, cylinders, beams);
     map.insertObservation(*scan, mrpt::poses::CPose3D(pose));
     tracker.update(map, makeScanView(makeRangeData(*scan, 15.0, 0.05 * M_PI / 180.0), pose),
                    0.2 * index, index);
@@ -91,6 +92,22 @@ TEST(ObjectTracker, NewDisappearedReappearedMoved) {
   EXPECT_EQ(run.events(), (std::vector<ObjectEvent>{ObjectEvent::New, ObjectEvent::Disappeared,
                                                     ObjectEvent::Reappeared,
                                                     ObjectEvent::Disappeared, ObjectEvent::Moved}));
+}
+
+// A place passed by, seen in a few scans of one-degree beams: D has crossed the threshold on
+// only part of the cylinder's arc when the robot turns away, so its cells and hit points show
+// a part; the whole outlines those scans showed give its size.
+TEST(ObjectTracker, APlacePassedByGetsTheSizeOfTheWholeOutlinesSeen) {
+  TrackerRun run;
+  run.beams = 181;
+  const mrpt::poses::CPose2D ahead(-2.5, -2.0, 0.6), away(-2.5, -2.0, M_PI + 0.6);
+  run.steps(10, ahead, {});
+  const Cylinder bin{2.0, 0.5, 0.5};
+  run.steps(5, ahead, {bin});
+  run.steps(20, away, {bin});
+  ASSERT_EQ(run.tracker.objects().size(), 1u);
+  // Its cells and hit points alone: 0.27 m.
+  EXPECT_NEAR(run.tracker.objects()[0].shape.size, 0.5, 0.03);
 }
 
 TEST(ObjectTracker, AnObjectWhereAPersonStandsIsReportedOnceTheyHaveLeft) {

@@ -75,6 +75,9 @@ class ObjectTracker {
   /// every track that gained or lost cells.
   void recluster(const DynamicGridMap& map, const std::vector<CellKey>& dirty);
   void collectPoints(const DynamicGridMap& map, const ScanView& view);
+  /// The whole outline of each track a beam of this scan ended on (measureOutline), when the
+  /// scan shows it: into the track's outline sizes and outline_now_.
+  void measureOutlines(const ScanView& view);
   /// Whether (x, y), up to rounding, may lie on a cell a track owns: false only when it surely
   /// does not (off the grid, or inside a cell no track owns, clear of its edges).
   bool onObjectCell(const DynamicGridMap& map, double x, double y) const;
@@ -136,6 +139,8 @@ class ObjectTracker {
   /// spacing there.
   bool measureOutline(const ScanView& view, int key, const ShapeEstimate& s, double& size,
                       double& gap) const;
+  /// Whether the place object `id` left for track `key`'s report is being seen occupied.
+  bool leftPlaceSeenOccupied(int id, int key) const;
   /// Whether some track reports object `id` provisionally.
   bool underReview(int id) const;
   /// Object `id` was found elsewhere (by track `moved_to`): its track becomes a stale place.
@@ -165,6 +170,8 @@ class ObjectTracker {
   std::set<int> pending_;               // tentatives passing the filters
   std::set<int> reviewing_;             // reported tracks whose identity is provisional
   std::map<int, std::size_t> beam_on_;  // track key -> a beam of this scan ending on its cells
+  std::map<int, std::pair<double, double>> outline_now_;  // track key -> this scan's outline
+                                                          // size and beam gap [m]
   const DynamicGridMap* map_ = nullptr;  // the map of the update under way
   std::vector<TrackedObject> objects_;
   std::vector<EventRecord> events_;

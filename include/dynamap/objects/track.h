@@ -110,6 +110,11 @@ struct HitPoint {
 struct Track {
   std::vector<CellKey> cells;  ///< sorted
   bool hugs_wall = false;      ///< some cell is near a cell S does not hold free
+  /// Every whole outline of it seen so far, in any state: once there is one, its size. A
+  /// convex object's outline is as wide as the object from any side, while its cells and hit
+  /// points show only the arcs that have crossed D so far (scans seconds apart, a place
+  /// passed by): their size falls short.
+  OutlineSizes outline;
   /// The latest hit point in each centimetre bin of its cells: the size is fitted to these.
   std::map<CellKey, HitPoint> points;
   TrackState state;  ///< a new track is tentative
@@ -137,6 +142,10 @@ ShapeEstimate measureShape(Track& track, double resolution, double sensor_x, dou
 
 /// Whether a tentative track of shape `shape` counts as a pass towards confirmation: enough
 /// cells, a size within [min_size, max_size], and not a thin row of cells along a wall.
+/// `s` with the size of the whole outlines seen (`outline`, when it holds one), its box that
+/// size about its centre.
+void applyOutline(const OutlineSizes& outline, ShapeEstimate& s);
+
 bool passesFilters(const Track& track, const ShapeEstimate& shape, const ObjectOptions& options);
 
 }  // namespace dynamap
