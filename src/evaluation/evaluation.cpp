@@ -217,21 +217,55 @@ ObjectScores evaluateObjects(const std::vector<TruthRow>& rows, const std::vecto
   return out;
 }
 
-void setAsideLogOwn(ObjectScores& scores, const std::vector<TrackRow>& tracks,
-                    const std::vector<OwnRow>& own, double radius) {
-  std::map<std::size_t, std::vector<const OwnRow*>> by_scan;
-  for (const OwnRow& o : own) by_scan[o.scan_index].push_back(&o);
-  std::map<int, std::size_t> near_own;  // per tracker id, rows near an own row
-  for (const TrackRow& r : tracks) {
-    const auto it = by_scan.find(r.scan_index);
-    if (it == by_scan.end()) continue;
-    for (const OwnRow* o : it->second) {
-      if (std::hypot(r.cx - o->x, r.cy - o->y) <= radius) {
-        ++near_own[r.object_id];
-        break;
-      }
+namespace {
+
+// The places of the own rows, each with the first scan it was reported at: a grid of cells
+// `radius` wide, each listing the distinct places (to 5 cm) in it.
+struct OwnPlaces {
+  struct Place {
+    double x, y;
+    std::size_t first_scan;
+  };
+  double radius;
+  std::map<std::pair<long, long>, std::vector<Place>> cells;
+  std::pair<long, long> cellOf(double x, double y) const {
+    return {static_cast<long>(std::floor(x / radius)), static_cast<long>(std::floor(y / radius))};
+  }
+  OwnPlaces(const std::vector<OwnRow>& own, double r) : radius(r) {
+    std::map<std::pair<long, long>, std::size_t> first;  // 5 cm place -> first scan
+    for (const OwnRow& o : own) {
+      const std::pair<long, long> k{std::lround(o.x / 0.05), std::lround(o.y / 0.05)};
+      const auto it = first.find(k);
+      if (it == first.end() || o.scan_index < it->second) first[k] = o.scan_index;
+    }
+    for (const auto& [k, scan] : first) {
+      const double x = 0.05 * static_cast<double>(k.first), y = 0.05 * static_cast<double>(k.second);
+      cells[cellOf(x, y)].push_back({x, y, scan});
     }
   }
+  // Whether (x, y) lies within radius of a place reported at or before `scan`.
+  bool reportedBy(double x, double y, std::size_t scan) const {
+    const auto [cx, cy] = cellOf(x, y);
+    for (long dy = -1; dy <= 1; ++dy) {
+      for (long dx = -1; dx <= 1; ++dx) {
+        const auto it = cells.find({cx + dx, cy + dy});
+        if (it == cells.end()) continue;
+        for (const Place& p : it->second) {
+          if (p.first_scan <= scan && std::hypot(x - p.x, y - p.y) <= radius) return true;
+        }
+      }
+    }
+    return false;
+  }
+};
+
+}  // namespace
+
+void setAsideLogOwn(ObjectScores& scores, const std::vector<TrackRow>& tracks,
+                    const std::vector<OwnRow>& own, double radius) {
+  const OwnPlaces places(own, radius);
+  std::map<int, std::size_t> near_own;  // per tracker id, rows at a place of the log's own
+  for (const TrackRow& r : tracks) near_own[r.object_id] += places.reportedBy(r.cx, r.cy, r.scan_index);
   for (IdAssignment& a : scores.ids) {
     if (!a.static_object || 2 * near_own[a.track_id] <= a.rows) continue;
     a.static_object = false;

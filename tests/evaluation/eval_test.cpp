@@ -507,6 +507,26 @@ TEST(EvalObjects, RealScansSetAsideWhatIsNoStaticPart) {
   }
 }
 
+// The log's own change is set aside by its place from the scan it was first reported at on:
+// the table may keep it longer than the unedited log's did (another object took its id there).
+// Rows at that place before the change happened are no change of the log's.
+TEST(EvalObjects, TheLogsOwnPlaceCountsFromItsFirstReportOn) {
+  const Truth t = twoObjects();
+  std::vector<TrackRow> tracks;
+  addStill(tracks, 5);
+  for (std::size_t k = 0; k < 20; ++k) {
+    tracks.push_back(track(k, 8, 9.0, 9.0));   // the unedited run: scans 5-7 only
+    tracks.push_back(track(k, 9, -7.0, 2.0));  // the unedited run: from scan 15 on
+  }
+  ObjectScores s = evaluateObjects(t.rows, t.moves, tracks);
+  ASSERT_EQ(s.static_as_objects, 2u);
+  setAsideLogOwn(s, tracks, {{5, 9.1, 9.0}, {6, 9.0, 9.0}, {7, 9.0, 9.1}, {15, -7.0, 2.0},
+                             {16, -7.0, 2.0}, {17, -7.0, 2.0}, {18, -7.0, 2.0}, {19, -7.0, 2.0}});
+  EXPECT_EQ(s.log_own_objects, 1u);
+  EXPECT_EQ(s.static_as_objects, 1u);
+  for (const IdAssignment& a : s.ids) EXPECT_EQ(a.log_own, a.track_id == 8) << a.track_id;
+}
+
 // A log whose scans come seconds apart: the detection window is 50 scans, not 10 s.
 TEST(EvalObjects, TheWindowIsFiftyScansOnASlowLog) {
   Truth t;

@@ -149,8 +149,10 @@ struct OwnRow {
 };
 
 /// Sets aside every id counted as a static part whose rows, for more than half of them, lie within
-/// `radius` of an own row of the same scan: it is the log's own change, reported as before the
-/// objects were added (log_own, not static_object; the counts follow).
+/// `radius` of a place an own row stood at, at their scan or before: it is the log's own change
+/// (log_own, not static_object; the counts follow). Not only the same scan: how long the table
+/// keeps such an object, or which detection later takes its id, depends on the other objects
+/// in it, and nothing labels the log's own changes to say which story is right.
 void setAsideLogOwn(ObjectScores& scores, const std::vector<TrackRow>& tracks,
                     const std::vector<OwnRow>& own, double radius = 0.5);
 
