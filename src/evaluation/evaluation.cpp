@@ -239,7 +239,8 @@ struct OwnPlaces {
       if (it == first.end() || o.scan_index < it->second) first[k] = o.scan_index;
     }
     for (const auto& [k, scan] : first) {
-      const double x = 0.05 * static_cast<double>(k.first), y = 0.05 * static_cast<double>(k.second);
+      const double x = 0.05 * static_cast<double>(k.first),
+                   y = 0.05 * static_cast<double>(k.second);
       cells[cellOf(x, y)].push_back({x, y, scan});
     }
   }
@@ -265,7 +266,8 @@ void setAsideLogOwn(ObjectScores& scores, const std::vector<TrackRow>& tracks,
                     const std::vector<OwnRow>& own, double radius) {
   const OwnPlaces places(own, radius);
   std::map<int, std::size_t> near_own;  // per tracker id, rows at a place of the log's own
-  for (const TrackRow& r : tracks) near_own[r.object_id] += places.reportedBy(r.cx, r.cy, r.scan_index);
+  for (const TrackRow& r : tracks)
+    near_own[r.object_id] += places.reportedBy(r.cx, r.cy, r.scan_index);
   for (IdAssignment& a : scores.ids) {
     if (!a.static_object || 2 * near_own[a.track_id] <= a.rows) continue;
     a.static_object = false;

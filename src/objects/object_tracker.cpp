@@ -299,16 +299,15 @@ void ObjectTracker::settle(int key, const ScanView& view, double t, std::size_t 
     object(current).state = ObjectState::Relabeled;
   }
   reviewing_.erase(key);  // its own claim is no obstacle
-  const ShapeEstimate& judged = s;
-  const int id = pickIdentity(judged, r.exclude_id, -1, view, t);
+  const int id = pickIdentity(s, r.exclude_id, -1, view, t);
   object(current) = now;
   // No other known object fits, but the claimed one's size still does (a far one, say, whose
   // size another object's comes close to) and its old place is not seen occupied: nothing
   // contradicts the report.
   const bool still_fits = r.claimed && id == 0 &&
-                          std::abs(judged.size - r.before.shape.size) <= options_.size_tolerance &&
+                          std::abs(s.size - r.before.shape.size) <= options_.size_tolerance &&
                           !leftPlaceSeenOccupied(current, key);
-  if (id < 0 || still_fits || id == (r.claimed ? current : 0)) {
+  if (still_fits || id == (r.claimed ? current : 0)) {
     c.review.reset();  // the identity stands
     return;
   }

@@ -173,7 +173,10 @@ void ObjectTracker::refresh(Track& tr, double res) {
   if (Confirmed* c = tr.confirmed()) {
     ShapeEstimate& row = object(c->id).shape;
     // A fading object keeps the estimate made from the most cells: its last cells are a part.
-    if (s.cells < c->best_cells) return applyOutline(tr.outline, row);
+    if (s.cells < c->best_cells) {
+      applyOutline(tr.outline, row);  // but its outlines still size it
+      return;
+    }
     c->best_cells = s.cells;
     row = s;
     return;

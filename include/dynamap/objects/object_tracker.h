@@ -170,8 +170,8 @@ class ObjectTracker {
   std::set<int> pending_;               // tentatives passing the filters
   std::set<int> reviewing_;             // reported tracks whose identity is provisional
   std::map<int, std::size_t> beam_on_;  // track key -> a beam of this scan ending on its cells
-  std::map<int, std::pair<double, double>> outline_now_;  // track key -> this scan's outline
-                                                          // size and beam gap [m]
+  // track key -> the size and beam gap [m] of its whole outline in this scan
+  std::map<int, std::pair<double, double>> outline_now_;
   const DynamicGridMap* map_ = nullptr;  // the map of the update under way
   std::vector<TrackedObject> objects_;
   std::vector<EventRecord> events_;

@@ -140,12 +140,12 @@ struct Track {
 ShapeEstimate measureShape(Track& track, double resolution, double sensor_x, double sensor_y,
                            const ObjectOptions& options);
 
-/// Whether a tentative track of shape `shape` counts as a pass towards confirmation: enough
-/// cells, a size within [min_size, max_size], and not a thin row of cells along a wall.
-/// `s` with the size of the whole outlines seen (`outline`, when it holds one), its box that
-/// size about its centre.
+/// Raises a size `s` that is not a fitted circle to the mean of the whole outlines seen
+/// (`outline`, when it holds one and that is larger), its box that size about its centre.
 void applyOutline(const OutlineSizes& outline, ShapeEstimate& s);
 
+/// Whether a tentative track of shape `shape` counts as a pass towards confirmation: enough
+/// cells, a size within [min_size, max_size], and not a thin row of cells along a wall.
 bool passesFilters(const Track& track, const ShapeEstimate& shape, const ObjectOptions& options);
 
 }  // namespace dynamap
