@@ -201,7 +201,7 @@ inline void DynamicGridMap::applyHit(std::size_t index, bool in_free_space) {
   const cellType d = dyn_[index];
   if (in_free_space) {  // S knew this cell as free: something moved in
     m_map[index] = clampCell(s + deltas_.s_hit_free, kCellMin);
-    dyn_[index] = clampCell(d + deltas_.d_hit_free, d_floor_, d_ceiling_);
+    if (!hold_dynamic_) dyn_[index] = clampCell(d + deltas_.d_hit_free, d_floor_, d_ceiling_);
   } else {  // NotFree: consistent with a static part of the world
     m_map[index] = clampCell(s + deltas_.s_hit_notfree, kCellMin);
     dyn_[index] = clampCell(d + deltas_.d_hit_notfree, d_floor_, d_ceiling_);

@@ -61,6 +61,8 @@ const OptionTable<DynamicMapOptions>& DynamicMapOptions::table() {
            "beams do not free cells this close (across) to the surface they hit", 5},
           {"surface_guard_max", &O::surface_guard_max, Range::closed(0, 10), "m",
            "...nor farther than this back along the beam", 1},
+          {"d_hold_share", &O::d_hold_share, Range::openClosed(0, 1), "",
+           "D holds still while more of the last scans' hits land in S's free space (poses off); 1 = never", 6},
       });
   return t;
 }

@@ -385,11 +385,7 @@ bool isReported(const PersonTrack& tr) {
 void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanHits& hits,
                            double t, double free_share) {
   walk_offs_.clear();
-  // A moving average over about the last five scans: one scan of a crowd is no pose error.
-  constexpr double kShareWeight = 0.2;
-  free_share_avg_ = have_share_ ? (1 - kShareWeight) * free_share_avg_ + kShareWeight * free_share
-                                : free_share;
-  have_share_ = true;
+  free_share_.add(free_share);
   // A place seen empty is left: whoever stood there walked off unseen.
   stood_unseen_.erase(std::remove_if(stood_unseen_.begin(), stood_unseen_.end(),
                                      [&](const StoodUnseen& p) {

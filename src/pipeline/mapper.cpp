@@ -208,6 +208,30 @@ void Mapper::countTime(const ScanRecord& rec) {
   counts_.last_t = rec.t;
 }
 
+std::vector<PersonDetection> Mapper::detectAndCheck(const RangeData& rd,
+                                                    const mrpt::poses::CPose2D& pose,
+                                                    double& free_share) {
+  std::vector<PersonDetection> people;
+  free_share = 0;
+  const bool check = config_.map.d_hold_share < 1;
+  if (!config_.people.enabled && !check) return people;
+  scanHits(rd, pose, hits_);
+  if (config_.people.enabled) {
+    people = detectPeople(map_, hits_, config_.people, legs_, &free_share);
+  } else {
+    free_share = freeSpaceShare(map_, hits_, config_.people.wall_guard_cells);
+  }
+  free_share_.add(free_share);
+  if (check) {
+    // Free space hit by a surface wider than any object is a wall in the wrong place; a
+    // moved object close by, in an open space with few echoes, can make most hits alone.
+    surface_share_.add(freeSurfaceShare(map_, hits_, config_.people, config_.objects.max_size));
+    map_.holdDynamic(free_share_.value() > config_.map.d_hold_share &&
+                     surface_share_.value() > kSurfaceShare);
+  }
+  return people;
+}
+
 ScanResult Mapper::process(const ScanRecord& rec) {
   countTime(rec);
   ScanResult result;
@@ -223,14 +247,9 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   config_.insertion.rangeData(*rec.scan, range_);
   const RangeData& rd = range_;
   result.pose = matcher_ ? correctPose(rec, rd) : rec.pose;  // 2. where the scan was taken
-  // 3. People, detected against S as it was before this scan (the paper's S_{t-1}).
-  ScanHits& hits = hits_;
-  std::vector<PersonDetection> people;
+  // 3. People, and whether the scans agree with S.
   double free_share = 0;
-  if (config_.people.enabled) {
-    scanHits(rd, result.pose, hits);
-    people = detectPeople(map_, hits, config_.people, legs_, &free_share);
-  }
+  const std::vector<PersonDetection> people = detectAndCheck(rd, result.pose, free_share);
   map_.insertRange(rd, result.pose);  // 4. S and D
   const ScanInsertStats& st = map_.lastInsertStats();
   counts_.beams_bad += st.beams_bad;
@@ -244,7 +263,7 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   // 5. People tracked; where they are, no object is confirmed (exclusion_radius > 0).
   const std::size_t events_before = tracker_.events().size();
   if (config_.people.enabled) {
-    people_.update(people, hits, rec.t, free_share);
+    people_.update(people, hits_, rec.t, free_share);
     std::vector<ObjectTracker::KeepOut> keep_out;
     for (const auto& [x, y] : people_.personPositions()) {
       keep_out.push_back({x, y, config_.people.exclusion_radius});

@@ -303,6 +303,34 @@ TEST(DynamicGridMapScenes, AnObjectInFreeSpaceGoesIntoDAfterFiveScansAndNotIntoS
   EXPECT_EQ(objectCells(m), 0u);
 }
 
+TEST(DynamicGridMap, AHitInFreeSpaceLeavesDAsItIsWhileHeldAndSAsUnheld) {
+  DynamicGridMap held = tableMap(), free_run = tableMap();
+  for (DynamicGridMap* m : {&held, &free_run}) {
+    for (int i = 0; i < 6; ++i) beamAhead(*m, 1.0f);
+    ASSERT_TRUE(m->isStaticFree(55, 50));
+  }
+  held.holdDynamic(true);
+  EXPECT_TRUE(held.dynamicHeld());
+  beamAhead(held, 0.5f);
+  beamAhead(free_run, 0.5f);
+  // S moves as without the hold; D's cell 55 keeps the 36 of its misses (unheld: 30), while
+  // the cells the beam crossed still fade (miss: 42).
+  EXPECT_EQ(staticRow(held, 54, 56), staticRow(free_run, 54, 56));
+  EXPECT_EQ(dynamicRow(held, 54, 56), (std::vector<int>{42, 36, 36}));
+  EXPECT_EQ(dynamicRow(free_run, 54, 56), (std::vector<int>{42, 30, 36}));
+}
+
+TEST(DynamicGridMapScenes, AnObjectSeenWhileDIsHeldNeverEntersD) {
+  DynamicGridMap m = emptyMap();
+  for (int k = 0; k < 20; ++k) scanWall(m);
+  m.holdDynamic(true);
+  for (int k = 0; k < 10; ++k) scanWall(m, 0.65);
+  EXPECT_EQ(objectCells(m), 0u);
+  m.holdDynamic(false);  // the same hits count again: five make it an object
+  for (int k = 0; k < 5; ++k) scanWall(m, 0.65);
+  EXPECT_TRUE(m.isObjectCell(56, 50));
+}
+
 TEST(DynamicGridMapScenes, AnObjectPresentFromTheStartIsStaticUntilItLeaves) {
   DynamicGridMap m = emptyMap();
   for (int k = 0; k < 20; ++k) scanWall(m, 0.65);

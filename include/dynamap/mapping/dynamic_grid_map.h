@@ -68,6 +68,11 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   /// False when the scan was skipped (lastInsertStats() says why). `rd` must come from
   /// makeRangeData() (std::invalid_argument when its beam directions are missing).
   bool insertRange(const RangeData& rd, const mrpt::poses::CPose2D& robot);
+  /// While held, a hit in S's free space leaves D as it is (S is updated as always): the layer
+  /// above holds D while the scans disagree with S, when a hit there is the pose's error and
+  /// not something that moved in (DynamicMapOptions::d_hold_share). Misses still fade D.
+  void holdDynamic(bool hold) { hold_dynamic_ = hold; }
+  bool dynamicHeld() const { return hold_dynamic_; }
   const InsertionOptions& insertion() const { return insertion_; }
 
   /// Grows S and D together, keeping every cell's content (hides the base's non-virtual one).
@@ -241,6 +246,7 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   std::array<cellType, 256> miss_s_{}, miss_d_{};  // a miss's update, by the cell's bits
   MissLanes lanes_{};                              // the same as arithmetic, and the scan's mark
   bool simd_steps_ = false;                        // both steps fit a cell: lanes_ holds them
+  bool hold_dynamic_ = false;                      // holdDynamic()
 
   // Per-scan scratch, kept to avoid reallocations.
   enum RayKind : std::uint8_t { kBeamNone = 0, kBeamFreeOnly = 1, kBeamHit = 2 };

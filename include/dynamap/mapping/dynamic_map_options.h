@@ -60,6 +60,14 @@ struct DynamicMapOptions : public mrpt::config::CLoadableOptions {
   /// would need as many hits to show an object that then arrives; 0.5 (the prior) makes 5 hits
   /// enough wherever the object appears; in (0, object_threshold).
   double d_min = 0.5;
+  /// While more than this share of the last scans' hits (a moving average over about five)
+  /// lands where S holds free space, some on surfaces wider than any object, the scans
+  /// disagree with the map: the poses are off (a drifting log, a loop that did not close), and
+  /// a hit in free space is a wall seen from the wrong place, not something that moved in. D
+  /// then holds still (S is updated as always; Mapper decides, DynamicGridMap::holdDynamic).
+  /// With right poses the share stays lower (people and moved objects are a few beams). 1 =
+  /// never; in (0, 1].
+  double d_hold_share = 0.8;
 
   /// Every key of [dynamic_map]: name, member, range, unit, meaning (see OptionTable).
   static const OptionTable<DynamicMapOptions>& table();

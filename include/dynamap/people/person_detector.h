@@ -98,6 +98,13 @@ std::vector<PersonDetection> pairLegs(const std::vector<PointCluster>& clusters,
 std::vector<PersonDetection> shapeDetections(const DynamicGridMap& map, const ScanHits& hits,
                                              const PeopleOptions& options, const LegClassifier& legs);
 
+/// The share of `hits` in S's free space (freeSpaceHits; 0 for a scan without hits).
+double freeSpaceShare(const DynamicGridMap& map, const ScanHits& hits, int wall_guard_cells);
+/// The share of `hits` in S's free space on surfaces wider than `length` (clusterPoints):
+/// walls seen from the wrong place, where the poses are off; no object or person is that wide.
+double freeSurfaceShare(const DynamicGridMap& map, const ScanHits& hits, const PeopleOptions& o,
+                        double length);
+
 /// The whole detection step: freeSpaceHits, clusterPoints, pairLegs, and near_static; with
 /// `legs`, also the shapeDetections farther than leg_pair_distance / 2 from every one of those
 /// (a pair of legs among the nearer ones makes the detection they are near leg_shaped).

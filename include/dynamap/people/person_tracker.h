@@ -31,6 +31,7 @@
 
 #include <Eigen/Core>
 
+#include "dynamap/base/share_average.h"
 #include "dynamap/people/people_options.h"
 #include "dynamap/people/person_detector.h"
 
@@ -147,7 +148,7 @@ class PersonTracker {
   void update(const std::vector<PersonDetection>& detections, const ScanHits& hits, double t,
               double free_share = 0);
   /// Whether the map held still at the last update (see update).
-  bool mapSteady() const { return free_share_avg_ <= options_.max_free_share; }
+  bool mapSteady() const { return free_share_.value() <= options_.max_free_share; }
 
   /// The people to report for the last scan: confirmed tracks and held (stopped) people, by id.
   std::vector<PersonRow> reported() const;
@@ -226,8 +227,7 @@ class PersonTracker {
   std::size_t trail_points_ = 0;
   bool have_t_ = false;
   double last_t_ = 0;
-  double free_share_avg_ = 0;  // of the scans so far, the latest weighing most
-  bool have_share_ = false;
+  ShareAverage free_share_;  // of the scans so far
   int next_key_ = 1;
   int next_id_ = 1;
 };

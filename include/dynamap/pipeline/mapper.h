@@ -104,6 +104,12 @@ class Mapper {
   void countTime(const ScanRecord& rec);
   /// The odometry pose of `rec` turned into the pose to insert it at (scan matching).
   mrpt::poses::CPose2D correctPose(const ScanRecord& rec, const RangeData& rd);
+  /// People in the scan at `pose`, seen against S before it (the paper's S_{t-1}); and D held
+  /// while the last scans' hits land mostly where S holds free space (d_hold_share), some of
+  /// them on surfaces wider than any object: the poses are off, and what D would gain there is
+  /// the map's own walls seen from the wrong place.
+  std::vector<PersonDetection> detectAndCheck(const RangeData& rd, const mrpt::poses::CPose2D& pose,
+                                              double& free_share);
 
   MapConfig config_;
   DynamicGridMap map_;
@@ -115,6 +121,10 @@ class Mapper {
   RobotPath path_;
   RangeData range_;  // this scan's geometry; its buffers kept from scan to scan
   ScanHits hits_;     // this scan's hit points for the people detector; likewise
+  ShareAverage free_share_;     // of the scans' hits, where S holds free space
+  ShareAverage surface_share_;  // ...on surfaces wider than objects.max_size
+  /// D holds only while some hits (one in twenty) lie on such surfaces, besides.
+  static constexpr double kSurfaceShare = 0.05;
   RunCounts counts_;
   bool have_t_ = false;
   std::unique_ptr<ScanMatcher> matcher_;  // null unless poses is ScanMatching
