@@ -407,38 +407,29 @@ std::vector<PersonDetection> shapeDetections(const DynamicGridMap& map, const Sc
   return out;
 }
 
-namespace {
-double shareOf(std::size_t free, const ScanHits& hits) {
-  return hits.points.empty()
-             ? 0.0
-             : static_cast<double>(free) / static_cast<double>(hits.points.size());
-}
-}  // namespace
-
-double freeSpaceShare(const DynamicGridMap& map, const ScanHits& hits, int wall_guard_cells) {
-  return shareOf(freeSpaceHits(map, hits, wall_guard_cells).size(), hits);
+double shareOfHits(std::size_t n, const ScanHits& hits) {
+  return hits.points.empty() ? 0.0
+                             : static_cast<double>(n) / static_cast<double>(hits.points.size());
 }
 
-double freeSurfaceShare(const DynamicGridMap& map, const ScanHits& hits, const PeopleOptions& o,
-                        double length) {
+double freeSurfaceShare(const std::vector<HitPoint2>& free, const ScanHits& hits,
+                        const PeopleOptions& o, double length) {
   PeopleOptions wide = o;
   wide.max_person_width = length;  // a cluster's width is measured up to this
   std::size_t on = 0;
-  for (const PointCluster& c :
-       clusterPoints(freeSpaceHits(map, hits, o.wall_guard_cells), hits.sensor_x, hits.sensor_y,
-                     wide, hits.step)) {
+  for (const PointCluster& c : clusterPoints(free, hits.sensor_x, hits.sensor_y, wide, hits.step)) {
     if (c.width > length) on += c.points;
   }
-  return shareOf(on, hits);
+  return shareOfHits(on, hits);
 }
 
 std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanHits& hits,
                                           const PeopleOptions& o, const LegClassifier* legs,
-                                          double* free_share) {
-  const std::vector<HitPoint2> free = freeSpaceHits(map, hits, o.wall_guard_cells);
+                                          std::vector<HitPoint2>* free_hits) {
+  std::vector<HitPoint2> free = freeSpaceHits(map, hits, o.wall_guard_cells);
   std::vector<PersonDetection> out =
       pairLegs(clusterPoints(free, hits.sensor_x, hits.sensor_y, o, hits.step), o);
-  if (free_share != nullptr) *free_share = shareOf(free.size(), hits);
+  if (free_hits != nullptr) *free_hits = std::move(free);
   if (legs != nullptr) {
     const std::size_t seen = out.size();
     for (PersonDetection d : shapeDetections(map, hits, o, *legs)) {

@@ -217,15 +217,17 @@ std::vector<PersonDetection> Mapper::detectAndCheck(const RangeData& rd,
   if (!config_.people.enabled && !check) return people;
   scanHits(rd, pose, hits_);
   if (config_.people.enabled) {
-    people = detectPeople(map_, hits_, config_.people, legs_, &free_share);
+    people = detectPeople(map_, hits_, config_.people, legs_, &free_hits_);
   } else {
-    free_share = freeSpaceShare(map_, hits_, config_.people.wall_guard_cells);
+    free_hits_ = freeSpaceHits(map_, hits_, config_.people.wall_guard_cells);
   }
+  free_share = shareOfHits(free_hits_.size(), hits_);
   free_share_.add(free_share);
   if (check) {
     // Free space hit by a surface wider than any object is a wall in the wrong place; a
     // moved object close by, in an open space with few echoes, can make most hits alone.
-    surface_share_.add(freeSurfaceShare(map_, hits_, config_.people, config_.objects.max_size));
+    surface_share_.add(
+        freeSurfaceShare(free_hits_, hits_, config_.people, config_.objects.max_size));
     map_.holdDynamic(free_share_.value() > config_.map.d_hold_share &&
                      surface_share_.value() > kSurfaceShare);
   }

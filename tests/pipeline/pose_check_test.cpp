@@ -129,9 +129,11 @@ TEST(PoseCheck, FreeSurfaceShareCountsOnlyHitsOnSurfacesWiderThanTheLength) {
   for (int i = 0; i < 40; ++i) hits.points.push_back({2.0, -1.0 + 0.05 * i, std::size_t(i)});  // 2 m
   for (int i = 0; i < 10; ++i) hits.points.push_back({-2.0, 0.03 * i, std::size_t(100 + i)});  // 0.3 m
   const PeopleOptions o;
-  EXPECT_NEAR(freeSurfaceShare(mapper.map(), hits, o, 1.2), 40.0 / 50.0, 1e-12);
-  EXPECT_NEAR(freeSurfaceShare(mapper.map(), hits, o, 2.5), 0.0, 1e-12);
-  EXPECT_NEAR(freeSpaceShare(mapper.map(), hits, o.wall_guard_cells), 1.0, 1e-12);
+  const std::vector<HitPoint2> free = freeSpaceHits(mapper.map(), hits, o.wall_guard_cells);
+  EXPECT_EQ(free.size(), hits.points.size());  // all in the hall's free space
+  EXPECT_NEAR(freeSurfaceShare(free, hits, o, 1.2), 40.0 / 50.0, 1e-12);
+  EXPECT_NEAR(freeSurfaceShare(free, hits, o, 2.5), 0.0, 1e-12);
+  EXPECT_NEAR(shareOfHits(10, hits), 0.2, 1e-12);
 }
 
 }  // namespace

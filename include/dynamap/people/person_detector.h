@@ -98,22 +98,23 @@ std::vector<PersonDetection> pairLegs(const std::vector<PointCluster>& clusters,
 std::vector<PersonDetection> shapeDetections(const DynamicGridMap& map, const ScanHits& hits,
                                              const PeopleOptions& options, const LegClassifier& legs);
 
-/// The share of `hits` in S's free space (freeSpaceHits; 0 for a scan without hits).
-double freeSpaceShare(const DynamicGridMap& map, const ScanHits& hits, int wall_guard_cells);
-/// The share of `hits` in S's free space on surfaces wider than `length` (clusterPoints):
-/// walls seen from the wrong place, where the poses are off; no object or person is that wide.
-double freeSurfaceShare(const DynamicGridMap& map, const ScanHits& hits, const PeopleOptions& o,
-                        double length);
+/// n as a share of `hits`' points (0 for a scan without hits).
+double shareOfHits(std::size_t n, const ScanHits& hits);
+/// The share of `hits` that lie on surfaces wider than `length` among `free` (freeSpaceHits of
+/// them; clusterPoints): walls seen from the wrong place, where the poses are off; no object or
+/// person is that wide.
+double freeSurfaceShare(const std::vector<HitPoint2>& free, const ScanHits& hits,
+                        const PeopleOptions& o, double length);
 
 /// The whole detection step: freeSpaceHits, clusterPoints, pairLegs, and near_static; with
 /// `legs`, also the shapeDetections farther than leg_pair_distance / 2 from every one of those
 /// (a pair of legs among the nearer ones makes the detection they are near leg_shaped).
-/// `free_share`, when given, receives the share of the scan's hits in S's free space (0 for a
-/// scan without hits): a few percent where the map holds still, most of them where the poses
-/// are wrong (drift, or a moving robot mapped with fixed poses).
+/// `free_hits`, when given, receives the scan's hits in S's free space (freeSpaceHits): a few
+/// percent of them where the map holds still, most where the poses are wrong (drift, or a
+/// moving robot mapped with fixed poses).
 std::vector<PersonDetection> detectPeople(const DynamicGridMap& map, const ScanHits& hits,
                                           const PeopleOptions& options,
                                           const LegClassifier* legs = nullptr,
-                                          double* free_share = nullptr);
+                                          std::vector<HitPoint2>* free_hits = nullptr);
 
 }  // namespace dynamap

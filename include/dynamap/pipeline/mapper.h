@@ -121,6 +121,7 @@ class Mapper {
   RobotPath path_;
   RangeData range_;  // this scan's geometry; its buffers kept from scan to scan
   ScanHits hits_;     // this scan's hit points for the people detector; likewise
+  std::vector<HitPoint2> free_hits_;  // this scan's hits where S holds free space
   ShareAverage free_share_;     // of the scans' hits, where S holds free space
   ShareAverage surface_share_;  // ...on surfaces wider than objects.max_size
   /// D holds only while some hits (one in twenty) lie on such surfaces, besides.
