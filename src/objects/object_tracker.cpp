@@ -374,7 +374,7 @@ bool ObjectTracker::measureOutline(const ScanView& view, int key, const ShapeEst
 
 bool ObjectTracker::leftPlaceSeenOccupied(int id, int key) const {
   for (const auto& kv : tracks_) {
-    const Stale* st = std::get_if<Stale>(&kv.second.state);
+    const Stale* st = kv.second.stale();
     if (st && st->object_id == id && st->moved_to == key && st->seen_occupied > 0) return true;
   }
   return false;

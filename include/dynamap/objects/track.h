@@ -123,6 +123,7 @@ struct Track {
   Confirmed* confirmed() { return std::get_if<Confirmed>(&state); }
   Stale* stale() { return std::get_if<Stale>(&state); }
   const Confirmed* confirmed() const { return std::get_if<Confirmed>(&state); }
+  const Stale* stale() const { return std::get_if<Stale>(&state); }
   bool isStale() const { return std::holds_alternative<Stale>(state); }
   /// The shape a tentative or stale track holds; null when confirmed (its object's row holds
   /// it).
