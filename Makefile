@@ -29,6 +29,8 @@
 #                standing robot with people walking past ($(DATASETS)/people/)
 #   make eval-slam  --poses slam on the real CARMEN logs of $(DATASETS)/carmen/ made to drift
 #                (dynamap perturb, seeds 1-3): one table of every log x seed (bench/eval_slam.sh)
+#   make eval-sessions  the same real logs cut in two sessions, the second mapped against the
+#                first (--prior): the changes it reports and its cost (bench/eval_sessions.sh)
 #   make compare-icp-slam  odometry-only mapping: dynamap's scan matching against MRPT's icp-slam
 #                and raw odometry on corridors_odom (installs mrpt-apps), and the SENA log maps
 #                with odometry, scan matching and slam, each scored by its consistency
@@ -74,7 +76,7 @@ BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors/corrid
 SLAM_BENCH_INPUT ?= $(if $(wildcard $(FREIBURG)),$(FREIBURG),rawlogs/corridors_odom/corridors_odom.rawlog)
 
 .PHONY: legs eval-people all deps configure build test demo bench format clean scenarios eval eval-heldout eval-real test-asan fuzz \
-  fuzz-deps bench-long compare-icp-slam eval-slam
+  fuzz-deps bench-long compare-icp-slam eval-slam eval-sessions
 
 all: build
 
@@ -250,7 +252,7 @@ test-asan: deps
 # tests/fuzz_regressions/<target>/ (fuzz_regressions_test replays every file there).
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := scenario carmen rawlog simplemap bag mcap db3 baseline config
+FUZZ_TARGETS := scenario carmen rawlog simplemap bag mcap db3 baseline config session
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 fuzz-deps: deps
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(FUZZ_PACKAGES)"
@@ -285,11 +287,17 @@ bench-long: build
 # drifting logs are kept in EVAL_SLAM_OUT between runs. Nothing to do without the logs.
 EVAL_SLAM_SEEDS ?= 1 2 3
 EVAL_SLAM_OUT ?= out/eval-slam
+EVAL_SESSIONS_OUT ?= out/eval-sessions
 EVAL_SLAM_ARGS ?=
 eval-slam: build
 	@if ls $(DATASETS)/carmen/*-corrected.log.gz >/dev/null 2>&1; then \
 	  bash bench/eval_slam.sh $(DYNAMAP) $(DATASETS) $(EVAL_SLAM_OUT) "$(EVAL_SLAM_SEEDS)" \
 	    "$(EVAL_SLAM_ARGS)"; \
+	else echo "dynamap: no $(DATASETS)/carmen/*-corrected.log.gz, nothing to evaluate"; fi
+
+eval-sessions: build
+	@if ls $(DATASETS)/carmen/*-corrected.log.gz >/dev/null 2>&1; then \
+	  bash bench/eval_sessions.sh $(DYNAMAP) $(DATASETS) $(EVAL_SESSIONS_OUT); \
 	else echo "dynamap: no $(DATASETS)/carmen/*-corrected.log.gz, nothing to evaluate"; fi
 
 # Odometry-only mapping, side by side on corridors_odom: dynamap with ground-truth poses, with

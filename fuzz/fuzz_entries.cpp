@@ -11,6 +11,7 @@
 #include "dynamap/base/ini.h"
 #include "dynamap/input/carmen_reader.h"
 #include "dynamap/input/open_source.h"
+#include "dynamap/input/session_state.h"
 #include "dynamap/mapping/plain_grid.h"
 #include "dynamap/pipeline/mapper.h"
 #include "dynamap/sim/scenario.h"
@@ -199,6 +200,27 @@ void configInput(const std::uint8_t* data, std::size_t size) {
     MapConfig::load(IniFile::fromText(again.str(), "config.ini"));
   } catch (const ConfigError&) {
   }
+}
+
+void sessionInput(const std::uint8_t* data, std::size_t size) {
+  constexpr std::uint64_t kMaxCells = std::uint64_t{1} << 22;
+  SessionState state;
+  try {
+    state = parseSessionState(std::string(reinterpret_cast<const char*>(data), size),
+                              "fuzz.json", kMaxCells);
+  } catch (const InputError&) {
+    return;
+  }
+  Mapper mapper{MapConfig{}};
+  try {
+    mapper.continueFrom(state);
+  } catch (const std::invalid_argument&) {
+    return;  // a grid of another resolution: `dynamap map` says so
+  }
+  // What a run writes for the next session must read back: an error here is a bug.
+  std::ostringstream again;
+  writeSessionState(mapper.sessionState(), again);
+  parseSessionState(again.str(), "session.json", kMaxCells);
 }
 
 }  // namespace dynamap::fuzz

@@ -34,4 +34,8 @@ void baselineInput(const std::uint8_t* data, std::size_t size);
 /// written back and loaded again (what config.ini of a run must survive).
 void configInput(const std::uint8_t* data, std::size_t size);
 
+/// A session.json (what `dynamap map --prior` reads): parseSessionState; a state it accepts
+/// is continued by a mapper (Mapper::continueFrom), whose own state must write and read back.
+void sessionInput(const std::uint8_t* data, std::size_t size);
+
 }  // namespace dynamap::fuzz

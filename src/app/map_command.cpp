@@ -24,6 +24,7 @@ const char* const kMapUsage =
     "usage: dynamap map --input FILE [--config FILE] [--out DIR] [--poses SOURCE]\n"
     "                   [--fixed-pose \"X Y PHI\"] [--frames-every N] [--no-baseline]\n"
     "                   [--skip-bad-lines] [--fov DEG] [--carmen-odometry laser|odom]\n"
+    "                   [--prior DIR [--initial-pose \"X Y PHI\"]]\n"
     "                   [--scan-topic T] [--odom-topic T]\n"
     "                   [--odom-frame F] [--base-frame F] [--gt-frame F] [--verbose]\n\n"
     "Builds the static map S and the dynamic map D from a log (MRPT rawlog, MRPT simplemap,\n"
@@ -33,7 +34,10 @@ const char* const kMapUsage =
     "summary.json, poses.txt (timestamp x y phi: the pose each scan was mapped at), the\n"
     "object table: objects.csv, events.csv, tracks.csv, people.csv (each person tracked, per\n"
     "scan), graph.g2o (pose source slam: the optimised pose graph), and mrpt_plain.png:\n"
-    "the plain MRPT grid of the same scans, compared with S in summary.json.\n"
+    "the plain MRPT grid of the same scans, compared with S in summary.json, and\n"
+    "session.json: what the next session of the same building starts from (--prior).\n"
+    "--prior DIR continues the session mapped into DIR: this log's S starts from DIR's, its\n"
+    "objects keep their ids, and changes.csv and changes.png say what changed since.\n"
     "--frames-every N also writes frames/NNNNNN.png (the overlay after scan N, 2N, ...) and,\n"
     "when ffmpeg is installed, timelapse.mp4.\n"
     "A ROS bag: sensor_msgs/LaserScan scans; odometry odom -> base_link from /tf (or\n"
@@ -77,6 +81,12 @@ po::options_description mapOptions() {
       "no-baseline",
       "do not build the plain MRPT grid of the same scans (mrpt_plain.png and the\n"
       "comparison in summary.json); saves its time")(
+      "prior", po::value<std::string>(),
+      "an earlier run's output directory (or its session.json): continue that session and "
+      "report what changed since (changes.csv, changes.png)")(
+      "initial-pose", po::value<std::string>(),
+      "\"X Y PHI\" [m m rad]: where the log's first scan was taken in the prior's map; every "
+      "pose is moved rigidly to start there (with --prior)")(
       "frames-every", po::value<long>(),
       "write frames/NNNNNN.png every N scans (and timelapse.mp4 with ffmpeg)")(
       "verbose,v", "print progress and a summary even when not on a terminal");
@@ -98,6 +108,15 @@ bool parseMapJob(const Args& args, MapJob& job, bool& verbose) {
   job.input = vm["input"].as<std::string>();
   job.out_dir = vm["out"].as<std::string>();
   job.baseline = vm.count("no-baseline") == 0;
+  if (vm.count("prior")) job.prior = vm["prior"].as<std::string>();
+  if (vm.count("initial-pose")) {
+    if (job.prior.empty()) throw UsageError("--initial-pose: only with --prior");
+    try {
+      job.initial_pose = parseFixedPose(vm["initial-pose"].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--initial-pose: ") + e.what());
+    }
+  }
   verbose = vm.count("verbose") > 0;
   if (vm.count("frames-every")) {
     job.frames_every = vm["frames-every"].as<long>();
@@ -222,6 +241,13 @@ int runMap(const Args& args) {
   if (job.config.poses == PoseSource::Auto) {  // always: the user did not say which
     std::cerr << "dynamap map: poses auto: " << r.pose_source
               << (r.pose_detail.empty() ? "" : " (" + r.pose_detail + ")") << "\n";
+  }
+  if (r.start) {  // always: a pose the user may want to give next time, or to check
+    std::fprintf(stderr,
+                 "dynamap map: the log starts at %.3f %.3f %.4f in the prior's map (fit %.2f; "
+                 "next best place %.2f)\n",
+                 r.start->pose.x(), r.start->pose.y(), r.start->pose.phi(), r.start->score,
+                 r.start->runner_up);
   }
   if (verbose || stderrIsTerminal()) reportRun(job, r);
   for (const std::string& w : mapWarnings(r)) std::cerr << "dynamap map: warning: " << w << "\n";

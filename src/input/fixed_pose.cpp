@@ -31,6 +31,33 @@ class FixedPoseSource : public ScanSource {
   mrpt::poses::CPose2D pose_;
 };
 
+// Every pose moved by the one rigid motion that takes the first scan's pose to `first`.
+class StartingAtSource : public ScanSource {
+ public:
+  StartingAtSource(std::unique_ptr<ScanSource> inner, const mrpt::poses::CPose2D& first)
+      : inner_(std::move(inner)), first_(first) {}
+
+  bool next(ScanRecord& out) override {
+    if (!inner_->next(out)) return false;
+    if (!have_motion_) {
+      motion_ = first_ + (-out.pose);  // motion_ + pose = first for the first scan
+      have_motion_ = true;
+    }
+    out.pose = motion_ + out.pose;
+    return true;
+  }
+  PoseSource poseSource() const override { return inner_->poseSource(); }
+  const SourceStats& stats() const override { return inner_->stats(); }
+  const std::string& path() const override { return inner_->path(); }
+  double fractionRead() const override { return inner_->fractionRead(); }
+  std::string poseDetail() const override { return inner_->poseDetail(); }
+
+ private:
+  std::unique_ptr<ScanSource> inner_;
+  mrpt::poses::CPose2D first_, motion_;
+  bool have_motion_ = false;
+};
+
 }  // namespace
 
 mrpt::poses::CPose2D parseFixedPose(const std::string& text) {
@@ -63,6 +90,11 @@ std::string formatFixedPose(const mrpt::poses::CPose2D& pose) {
 std::unique_ptr<ScanSource> withFixedPose(std::unique_ptr<ScanSource> inner,
                                           const mrpt::poses::CPose2D& pose) {
   return std::make_unique<FixedPoseSource>(std::move(inner), pose);
+}
+
+std::unique_ptr<ScanSource> startingAt(std::unique_ptr<ScanSource> inner,
+                                       const mrpt::poses::CPose2D& first) {
+  return std::make_unique<StartingAtSource>(std::move(inner), first);
 }
 
 }  // namespace dynamap

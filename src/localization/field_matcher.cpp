@@ -112,7 +112,10 @@ FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math
   const double sep_cells = separation_m / res, sep_turns = (5.0 * M_PI / 180.0) / step_rad;
   for (const auto& [s, t, dx, dy] : good) {
     const bool far = std::hypot(dx - bx, dy - by) > sep_cells || std::abs(t - bt) > sep_turns;
-    if (far) best.runner_up = std::max(best.runner_up, s / n);
+    if (far && s / n > best.runner_up) {
+      best.runner_up = s / n;
+      best.runner_up_pose = {guess.x() + dx * res, guess.y() + dy * res, guess.phi() + t * step_rad};
+    }
   }
   return best;
 }

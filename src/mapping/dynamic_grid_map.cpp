@@ -97,6 +97,33 @@ void DynamicGridMap::setSize(float x_min, float x_max, float y_min, float y_max,
   syncLayers();
 }
 
+void DynamicGridMap::loadStatic(double x_min, double y_min, double resolution, unsigned size_x,
+                                unsigned size_y, const std::vector<std::int8_t>& cells) {
+  if (std::abs(resolution - m_resolution) > 1e-6 * m_resolution) {
+    throw std::invalid_argument("its resolution " + std::to_string(resolution) +
+                                " m is not [dynamic_map] resolution " +
+                                std::to_string(m_resolution) + " m");
+  }
+  if (cells.size() != static_cast<std::size_t>(size_x) * size_y) {
+    throw std::invalid_argument("its cells do not fill its grid");
+  }
+  const double w = size_x * resolution, h = size_y * resolution;
+  if (w > maxGridSide(options_) || h > maxGridSide(options_)) {
+    throw std::invalid_argument("its grid is wider than [dynamic_map] max_map_size_m");
+  }
+  dyn_.clear();  // D starts empty: syncLayers() makes a fresh layer
+  layer_size_x_ = layer_size_y_ = 0;
+  // MRPT rounds each bound to a whole number of cells: a grid MRPT laid out comes back as it was.
+  Base::setSize(static_cast<float>(x_min), static_cast<float>(x_min + w), static_cast<float>(y_min),
+                static_cast<float>(y_min + h), static_cast<float>(resolution), 0.5f);
+  if (m_size_x != size_x || m_size_y != size_y ||
+      std::abs(m_xMin - x_min) > 0.01 * resolution || std::abs(m_yMin - y_min) > 0.01 * resolution) {
+    throw std::invalid_argument("its grid's geometry cannot be laid out at this resolution");
+  }
+  std::copy(cells.begin(), cells.end(), m_map.begin());
+  syncLayers();
+}
+
 bool DynamicGridMap::layersAligned() const {
   return m_size_x == layer_size_x_ && m_size_y == layer_size_y_ && m_xMin == layer_x_min_ &&
          m_yMin == layer_y_min_ && dyn_.size() == m_map.size();

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "dynamap/mapping/dynamic_grid_map.h"
 
@@ -153,6 +155,25 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
       pending_.erase(key);
     }
   }
+}
+
+void ObjectTracker::carryOver(std::vector<TrackedObject> rows, double t) {
+  if (!objects_.empty() || !tracks_.empty() || !events_.empty()) {
+    throw std::logic_error("ObjectTracker::carryOver: the table is no longer empty");
+  }
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    TrackedObject& o = rows[k];
+    if (o.id != static_cast<int>(k) + 1) {
+      throw std::logic_error("ObjectTracker::carryOver: ids must be 1, 2, ... in order");
+    }
+    o.label = "object" + std::to_string(o.id);
+    o.history = {{o.last_seen_t, o.shape.cx, o.shape.cy}};
+    if (listedInTable(o.state)) {
+      o.state = ObjectState::Absent;
+      o.vanished_t = t;
+    }
+  }
+  objects_ = std::move(rows);
 }
 
 int ObjectTracker::newObject(double t) {

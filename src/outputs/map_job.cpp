@@ -1,11 +1,13 @@
 #include "dynamap/outputs/map_job.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
 
+#include "dynamap/input/fixed_pose.h"
 #include "dynamap/input/open_source.h"
 #include "dynamap/input/read_ahead.h"
 #include "dynamap/outputs/map_outputs.h"
@@ -121,9 +123,39 @@ std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
   return run;
 }
 
+/// Poses that start in the log's own frame, not in a map's: a prior's frame must be found.
+bool odometryBased(PoseSource p) {
+  return p == PoseSource::Odometry || p == PoseSource::ScanMatching || p == PoseSource::Slam;
+}
+
+/// `source` moved to start where --initial-pose says, or, with a prior and poses in the log's
+/// own frame, where the search places its first scans in the prior's map (returned).
+std::optional<GlobalPlacement> startInPrior(const MapJob& job, const InputOptions& input,
+                                            const MapConfig& config,
+                                            const std::optional<SessionState>& prior,
+                                            std::unique_ptr<ScanSource>& source) {
+  if (job.initial_pose) {
+    source = startingAt(std::move(source), *job.initial_pose);
+    return std::nullopt;
+  }
+  if (!prior || !odometryBased(source->poseSource())) return std::nullopt;
+  auto probe = openScanSource(job.input, input);  // the log's first scans, read again
+  const GlobalPlacement placed = locateStart(*probe, *prior, config, job.input);
+  source = startingAt(std::move(source), placed.pose);
+  return placed;
+}
+
+/// The prior session's state, read before any work; an error names the file.
+std::optional<SessionState> readPrior(const MapJob& job) {
+  if (job.prior.empty()) return std::nullopt;
+  const double side = std::ceil(maxGridSide(job.config.map) / job.config.map.resolution) + 1;
+  return readSessionState(job.prior, static_cast<std::uint64_t>(side * side));
+}
+
 // The run with every output written into `stage`, committed at the end.
 MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   const std::string& dir = stage.path();
+  const std::optional<SessionState> prior = readPrior(job);
   InputOptions input = inputOptions(job);
   input.poses = job.config.poses;
   input.fixed_pose = job.config.fixed_pose;
@@ -132,10 +164,20 @@ MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   MapConfig config = job.config;
   std::unique_ptr<SlamRun> slam;
   if (usesSlam(config.poses, *source)) slam = slamPass(job, config, source);
+  const std::optional<GlobalPlacement> placed = startInPrior(job, input, config, prior, source);
   Mapper mapper(config);
+  if (prior) {
+    try {
+      mapper.continueFrom(*prior);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(job.prior + ": the prior session's map does not fit this run: " +
+                       e.what());
+    }
+  }
   Writers w(job, dir);
   const auto start = Clock::now();
   MapJobResult r;
+  r.start = placed;
   r.outcome = runMapping(*source, mapper, [&](const ScanRecord& rec, const ScanResult& result) {
     stopIfCancelled(job);
     afterScan(job, mapper, w, rec, result);

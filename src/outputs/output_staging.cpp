@@ -42,7 +42,8 @@ const std::vector<std::string>& OutputStaging::runOutputs() {
       "static.png",  "dynamic.png", "overlay.png",    "mrpt_plain.png", "static.gridmap.gz",
       "dynamic.gridmap.gz", "static.pgm", "static.yaml", "config.ini", "objects.csv",
       "events.csv",  "tracks.csv",  "people.csv",     "poses.txt",      "graph.g2o",
-      "timelapse.mp4", "frames",    "report.md",      "metrics.json",   "summary.json"};
+      "timelapse.mp4", "frames",    "report.md",      "metrics.json",   "session.json",
+      "changes.csv", "changes.png", "summary.json"};
   return names;
 }
 

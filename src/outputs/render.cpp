@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <string>
 
 namespace dynamap {
@@ -282,8 +283,15 @@ double scaleBarMetres(double metres_per_px, int max_px) {
   return best;
 }
 
+// One entry of a legend: its words and the sample drawn before them at (x0, y).
+struct LegendItem {
+  std::string what;
+  std::function<void(CImage& img, int x0, int y, int char_h)> draw;
+};
+
 // The picture with a strip below it: a scale bar and what each colour means.
-CImage withLegend(const CImage& map_img, double metres_per_px, bool people, bool objects) {
+CImage withLegend(const CImage& map_img, double metres_per_px,
+                  const std::vector<LegendItem>& items) {
   int char_w = 0, char_h = 0;
   CImage probe(map_img.getWidth(), 1, mrpt::img::CH_RGB);
   selectFont(probe, char_w, char_h);
@@ -306,30 +314,53 @@ CImage withLegend(const CImage& map_img, double metres_per_px, bool people, bool
   img.textOut(12 + bar, y0, buf, black);
   // Legend, on the second line.
   int x = 6;
-  auto item = [&](const std::string& what, auto draw) {
-    draw(x, y1);
-    img.textOut(x + 22, y1, what, black);
-    x += 22 + static_cast<int>(what.size()) * char_w + 14;
-  };
-  item("robot path", [&](int x0, int y) {
-    img.line(x0, y + char_h / 2, x0 + 16, y + char_h / 2, mrpt::img::TColor(40, 90, 255), 2);
-  });
-  item("object cells (D)", [&](int x0, int y) {
-    img.filledRectangle(x0 + 4, y + 2, x0 + 12, y + char_h - 2, mrpt::img::TColor(230, 0, 0));
-  });
-  if (objects) {
-    item("object: id, size", [&](int x0, int y) {
-      img.rectangle(x0 + 2, y + 1, x0 + 14, y + char_h - 1, mrpt::img::TColor(0, 150, 0), 2);
-    });
-  }
-  if (people) {
-    item("person trails (a colour each), P<id> at the end", [&](int x0, int y) {
-      for (int k = 0; k < 3; ++k) {
-        img.line(x0 + 6 * k, y + char_h / 2, x0 + 6 * k + 4, y + char_h / 2, kTrails[k], 2);
-      }
-    });
+  for (const LegendItem& item : items) {
+    item.draw(img, x, y1, char_h);
+    img.textOut(x + 22, y1, item.what, black);
+    x += 22 + static_cast<int>(item.what.size()) * char_w + 14;
   }
   return img;
+}
+
+LegendItem lineItem(const std::string& what, mrpt::img::TColor colour) {
+  return {what, [colour](CImage& img, int x0, int y, int char_h) {
+            img.line(x0, y + char_h / 2, x0 + 16, y + char_h / 2, colour, 2);
+          }};
+}
+
+LegendItem patchItem(const std::string& what, mrpt::img::TColor colour) {
+  return {what, [colour](CImage& img, int x0, int y, int char_h) {
+            img.filledRectangle(x0 + 4, y + 2, x0 + 12, y + char_h - 2, colour);
+          }};
+}
+
+LegendItem boxItem(const std::string& what, mrpt::img::TColor colour) {
+  return {what, [colour](CImage& img, int x0, int y, int char_h) {
+            img.rectangle(x0 + 2, y + 1, x0 + 14, y + char_h - 1, colour, 2);
+          }};
+}
+
+LegendItem ringItem(const std::string& what, mrpt::img::TColor colour) {
+  return {what, [colour](CImage& img, int x0, int y, int char_h) {
+            img.drawCircle(x0 + 8, y + char_h / 2, char_h / 2 - 1, colour, 2);
+          }};
+}
+
+// The overlay's legend: the path, D, and the objects and people when drawn.
+std::vector<LegendItem> overlayLegend(bool people, bool objects) {
+  std::vector<LegendItem> items = {lineItem("robot path", mrpt::img::TColor(40, 90, 255)),
+                                   patchItem("object cells (D)", mrpt::img::TColor(230, 0, 0))};
+  if (objects) items.push_back(boxItem("object: id, size", mrpt::img::TColor(0, 150, 0)));
+  if (people) {
+    items.push_back({"person trails (a colour each), P<id> at the end",
+                     [](CImage& img, int x0, int y, int char_h) {
+                       for (int k = 0; k < 3; ++k) {
+                         img.line(x0 + 6 * k, y + char_h / 2, x0 + 6 * k + 4, y + char_h / 2,
+                                  kTrails[k], 2);
+                       }
+                     }});
+  }
+  return items;
 }
 
 }  // namespace
@@ -354,7 +385,87 @@ CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& pa
   if (people) drawTrailLines(img, map, view, *people);
   if (objects) drawObjectBoxes(img, map, view, *objects, board);
   if (people) drawTrailLabels(img, map, view, *people, board);
-  return withLegend(img, map.getResolution() / view.scale, people != nullptr, objects != nullptr);
+  return withLegend(img, map.getResolution() / view.scale,
+                    overlayLegend(people != nullptr, objects != nullptr));
+}
+
+namespace {
+
+const mrpt::img::TColor kRemoved(220, 0, 0), kAdded(0, 160, 0), kMoved(30, 80, 255);
+
+// The map under a change report: the prior's S, this session's where the prior saw nothing,
+// the structure changes' cells in their colours.
+CImage paintChangeCells(const DynamicGridMap& map, const View& view,
+                        const SessionChanges& changes, const std::vector<ChangeRow>& rows) {
+  std::vector<std::uint8_t> tag(map.getRawMap().size(), 0);  // 1 removed or left, 2 added
+  for (const ChangeRow& r : rows) {
+    const std::uint8_t t = r.kind == "structure_added" ? 2 : 1;  // else: a place vacated
+    for (const auto& [x, y] : r.region) tag[x + static_cast<std::size_t>(y) * map.getSizeX()] = t;
+  }
+  const auto colour = [](const mrpt::img::TColor& c) { return Bgr{c.B, c.G, c.R}; };
+  return paintCells(map, view, [&](std::size_t i) {
+    if (tag[i] == 1) return colour(kRemoved);
+    if (tag[i] == 2) return colour(kAdded);
+    const double x = map.idx2x(static_cast<int>(i % map.getSizeX()));
+    const double y = map.idx2y(static_cast<int>(i / map.getSizeX()));
+    const std::int8_t prior = changes.priorCell(x, y);
+    const std::uint8_t g = prior != 0 ? DynamicGridMap::l2p_255(prior) : grey(map, i);
+    return Bgr{g, g, g};
+  });
+}
+
+// An object change: a ring at its place (new, gone) or an arrow to it (moved), and its label.
+void drawObjectChange(CImage& img, const DynamicGridMap& map, const View& view,
+                      const ChangeRow& r, LabelBoard& board) {
+  const bool moved = r.kind == "object_moved", gone = r.kind == "object_gone";
+  const mrpt::img::TColor c = moved ? kMoved : gone ? kRemoved : kAdded;
+  const double x = gone ? r.from_x : r.to_x, y = gone ? r.from_y : r.to_y;
+  const Pixel at = toPixel(map, view, x, y);
+  const int radius = std::max(4, static_cast<int>(0.5 * r.size / map.getResolution() * view.scale));
+  if (moved) {
+    const Pixel from = toPixel(map, view, r.from_x, r.from_y);
+    img.line(from.x, from.y, at.x, at.y, c, 2);
+    const double a = std::atan2(at.y - from.y, at.x - from.x);
+    for (const double side : {-0.5, 0.5}) {  // the head
+      img.line(at.x, at.y, at.x - static_cast<int>(9 * std::cos(a + side)),
+               at.y - static_cast<int>(9 * std::sin(a + side)), c, 2);
+    }
+  }
+  img.drawCircle(at.x, at.y, radius, c, 2);
+  int char_w = 0, char_h = 0;
+  selectFont(img, char_w, char_h);
+  char buf[48];  // an object of the prior's S has no id
+  if (r.id > 0) std::snprintf(buf, sizeof buf, "%d: %.2f m", r.id, r.size);
+  if (r.id <= 0) std::snprintf(buf, sizeof buf, "%.2f m", r.size);
+  const std::string label = buf;
+  const int lw = static_cast<int>(label.size()) * char_w + 4, lh = char_h + 2;
+  const Rect anchor{at.x - radius, at.y - radius, at.x + radius, at.y + radius};
+  Rect where{};
+  if (!board.place(anchor, lw, lh, static_cast<int>(img.getWidth()),
+                   static_cast<int>(img.getHeight()), where)) {
+    return;
+  }
+  board.taken.push_back(where);
+  img.filledRectangle(where.x0, where.y0, where.x1, where.y1, mrpt::img::TColor(255, 255, 255));
+  img.rectangle(where.x0, where.y0, where.x1, where.y1, c, 1);
+  img.textOut(where.x0 + 2, where.y0 + 1, label, mrpt::img::TColor(0, 0, 0));
+}
+
+}  // namespace
+
+CImage renderChanges(const DynamicGridMap& map, const SessionChanges& changes,
+                     const std::vector<ChangeRow>& rows) {
+  const View view = observedView(map);
+  CImage img = paintChangeCells(map, view, changes, rows);
+  LabelBoard board;
+  for (const ChangeRow& r : rows) {
+    if (r.kind.rfind("object_", 0) == 0) drawObjectChange(img, map, view, r, board);
+  }
+  const std::vector<LegendItem> legend = {
+      patchItem("structure removed", kRemoved), patchItem("structure added", kAdded),
+      lineItem("object moved: id, size", kMoved), ringItem("new object", kAdded),
+      ringItem("object gone", kRemoved)};
+  return withLegend(img, map.getResolution() / view.scale, legend);
 }
 
 void drawPeople(CImage& img, const DynamicGridMap& map, const View& view,

@@ -158,6 +158,17 @@ Json recordsSkipped(const SourceStats& s) {
   return {{"unit", s.record_unit}, {"total", total}, {"by_reason", by_reason}};
 }
 
+/// The change report's counts by kind, and which session this is (2: the first continued).
+Json changeSummary(const std::vector<ChangeRow>& rows, int session) {
+  Json by_kind = Json::object();
+  for (const char* k : {"object_moved", "object_new", "object_gone", "structure_added",
+                        "structure_removed"}) {
+    by_kind[k] = 0;
+  }
+  for (const ChangeRow& r : rows) by_kind[r.kind] = by_kind[r.kind].get<int>() + 1;
+  return {{"session", session}, {"total", rows.size()}, {"by_kind", by_kind}};
+}
+
 Json summary(const Mapper& mapper, const ScanSource& source, const OutputInfo& info) {
   const DynamicGridMap& m = mapper.map();
   const RunCounts& c = mapper.counts();
@@ -221,8 +232,16 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
     info.slam->slam->graph().saveG2o(tmp);
     commit(tmp, dir, "graph.g2o");
   }
-  writeFileAtomically(dir, "summary.json",
-                      [&](std::ostream& o) { writeJson(o, summary(mapper, source, info)); });
+  writeFileAtomically(dir, "session.json",
+                      [&](std::ostream& o) { writeSessionState(mapper.sessionState(), o); });
+  Json j = summary(mapper, source, info);
+  if (const SessionChanges* changes = mapper.changes()) {
+    const std::vector<ChangeRow> rows = changes->report(m, mapper.tracker());
+    writeFileAtomically(dir, "changes.csv", [&](std::ostream& o) { writeChangesCsv(o, rows); });
+    saveImageAtomically(renderChanges(m, *changes, rows), dir, "changes.png");
+    j["changes"] = changeSummary(rows, mapper.sessions());
+  }
+  writeFileAtomically(dir, "summary.json", [&](std::ostream& o) { writeJson(o, j); });
 }
 
 }  // namespace dynamap

@@ -1,6 +1,7 @@
 #include "dynamap/outputs/tables.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -110,6 +111,16 @@ void writeEventsCsv(std::ostream& o, const ObjectTracker& tracker) {
       << ',' << fmt("%.3f", e.cx) << ',' << fmt("%.3f", e.cy) << ',' << fmt("%.3f", e.size) << ',';
     if (e.from_id) o << e.from_id;
     o << '\n';
+  }
+}
+
+void writeChangesCsv(std::ostream& o, const std::vector<ChangeRow>& rows) {
+  o << csv::kChanges << "\n";
+  const auto num = [](const char* f, double v) { return std::isnan(v) ? std::string() : fmt(f, v); };
+  for (const ChangeRow& r : rows) {
+    o << r.kind << ',' << r.id << ',' << fmt("%.3f", r.size) << ',' << num("%.3f", r.from_x) << ','
+      << num("%.3f", r.from_y) << ',' << num("%.3f", r.to_x) << ',' << num("%.3f", r.to_y) << ','
+      << num("%.6f", r.first_seen_t) << ',' << r.cells << '\n';
   }
 }
 

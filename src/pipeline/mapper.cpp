@@ -90,7 +90,8 @@ const std::vector<InputKey>& inputKeys() {
 MapConfig MapConfig::load(const IniFile& ini) {
   ini.requireKnownSections({DynamicMapOptions::kSection, InsertionOptions::kSection,
                             ObjectOptions::kSection, PeopleOptions::kSection,
-                            ScanMatchOptions::kSection, SlamOptions::kSection, kInput});
+                            ScanMatchOptions::kSection, SlamOptions::kSection,
+                            ChangeOptions::kSection, kInput});
   MapConfig c;
   c.map.load(ini);
   c.insertion.load(ini);
@@ -98,6 +99,7 @@ MapConfig MapConfig::load(const IniFile& ini) {
   c.people.load(ini);
   c.scan_matching.load(ini);
   c.slam.load(ini);
+  c.changes.load(ini);
   std::vector<std::string> names;
   for (const InputKey& k : inputKeys()) names.push_back(k.name);
   ini.requireKnownKeys(kInput, names);
@@ -127,6 +129,8 @@ void MapConfig::writeIni(std::ostream& out) const {
     out << "\n";
     slam.writeIni(out);
   }
+  out << "\n";
+  changes.writeIni(out);
 }
 
 std::vector<OptionDoc> MapConfig::describe() {
@@ -140,7 +144,8 @@ std::vector<OptionDoc> MapConfig::describe() {
                       ObjectOptions::table().describe(defaults.objects),
                       PeopleOptions::table().describe(defaults.people),
                       ScanMatchOptions::table().describe(defaults.scan_matching),
-                      SlamOptions::table().describe(defaults.slam)}) {
+                      SlamOptions::table().describe(defaults.slam),
+                      ChangeOptions::table().describe(defaults.changes)}) {
     docs.insert(docs.end(), more.begin(), more.end());
   }
   return docs;
@@ -175,6 +180,53 @@ Mapper::Mapper(const MapConfig& config)
       legs_ = &own_legs_;
     }
   }
+}
+
+void Mapper::continueFrom(const SessionState& prior) {
+  map_.loadStatic(prior.x_min, prior.y_min, prior.resolution, prior.size_x, prior.size_y,
+                  prior.static_cells);
+  carried_ = std::make_unique<std::vector<TrackedObject>>();
+  for (const SessionObject& o : prior.objects) {
+    TrackedObject row;
+    row.id = o.id;
+    for (const ObjectState st : {ObjectState::Present, ObjectState::Absent, ObjectState::Withdrawn,
+                                 ObjectState::Relabeled, ObjectState::Retracted}) {
+      if (o.state == toString(st)) row.state = st;
+    }
+    row.shape.cx = o.cx;
+    row.shape.cy = o.cy;
+    row.shape.size = o.size;
+    row.shape.x_min = o.cx - 0.5 * o.size;
+    row.shape.x_max = o.cx + 0.5 * o.size;
+    row.shape.y_min = o.cy - 0.5 * o.size;
+    row.shape.y_max = o.cy + 0.5 * o.size;
+    row.n_moves = o.n_moves;
+    row.first_seen_t = o.first_seen_t;
+    row.last_seen_t = o.last_seen_t;
+    carried_->push_back(row);
+  }
+  changes_ = std::make_unique<SessionChanges>(prior, config_.changes, config_.objects);
+  sessions_ = prior.sessions + 1;
+}
+
+SessionState Mapper::sessionState() const {
+  SessionState s;
+  s.sessions = sessions_;
+  s.x_min = map_.getXMin();
+  s.y_min = map_.getYMin();
+  s.resolution = map_.getResolution();
+  s.size_x = map_.getSizeX();
+  s.size_y = map_.getSizeY();
+  s.static_cells.assign(map_.getRawMap().begin(), map_.getRawMap().end());
+  for (const TrackedObject& o : tracker_.objects()) {
+    s.objects.push_back({o.id, toString(o.state), o.shape.cx, o.shape.cy, o.shape.size, o.n_moves,
+                         o.first_seen_t, o.last_seen_t});
+  }
+  s.last_x = last_scan_pose_.x();
+  s.last_y = last_scan_pose_.y();
+  s.last_phi = last_scan_pose_.phi();
+  s.last_t = last_scan_t_;
+  return s;
 }
 
 std::string Mapper::poseSourceName(const ScanSource& source) const {
@@ -272,14 +324,23 @@ ScanResult Mapper::process(const ScanRecord& rec) {
     }
     tracker_.setKeepOut(std::move(keep_out));
   }
-  // 6. Objects, from the D cells this scan changed and the scan's view of known places.
-  tracker_.update(map_, makeScanView(rd, result.pose), rec.t, rec.index);
+  // 6. Objects, from the D cells this scan changed and the scan's view of known places; a
+  // prior session's table first joins at this session's first time.
+  if (carried_) {
+    tracker_.carryOver(std::move(*carried_), rec.t);
+    carried_.reset();
+  }
+  const ScanView view = makeScanView(rd, result.pose);
+  tracker_.update(map_, view, rec.t, rec.index);
+  if (changes_) changes_->update(map_, view, rec.t);
   // 6b. What was a person standing goes from the table.
   if (config_.people.enabled) {
     people_objects_.update(people_, tracker_, events_before, rec.t, rec.index);
   }
   result.object_events = tracker_.events().size() - events_before;
   path_.add(result.pose.x(), result.pose.y());  // 7. the path the pictures draw
+  last_scan_pose_ = result.pose;
+  last_scan_t_ = rec.t;
   return result;
 }
 

@@ -30,6 +30,7 @@ TEST(FuzzRegressions, EveryKeptInputRunsThroughItsEntryPoint) {
       {"bag", fuzz::bagInput},
       {"baseline", fuzz::baselineInput},
       {"config", fuzz::configInput},
+      {"session", fuzz::sessionInput},
       {"mcap", fuzz::mcapInput},
       {"db3", fuzz::db3Input}};
   std::size_t files = 0;

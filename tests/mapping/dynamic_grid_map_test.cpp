@@ -467,5 +467,30 @@ TEST(DynamicGridMap, EveryScanUpdatesItsCellsAfterTheScanMarksWrapRound) {
   EXPECT_EQ(compared, 600u);
 }
 
+// A prior session's S: loaded cell for cell at its place, D empty, and refused at another
+// resolution or beyond the largest map.
+TEST(DynamicGridMap, LoadStaticTakesAnotherSessionsCellsAsTheyWere) {
+  DynamicGridMap first;
+  const CPose2D pose(0.3, -0.2, 0.4);
+  first.insertObservation(*makeScan(std::vector<float>(181, 3.0f), M_PI), CPose3D(pose));
+  const std::vector<std::int8_t> cells(first.getRawMap().begin(), first.getRawMap().end());
+  DynamicGridMap second;
+  second.loadStatic(first.getXMin(), first.getYMin(), first.getResolution(), first.getSizeX(),
+                    first.getSizeY(), cells);
+  EXPECT_EQ(second.getXMin(), first.getXMin());
+  EXPECT_EQ(second.getYMin(), first.getYMin());
+  EXPECT_EQ(second.getSizeX(), first.getSizeX());
+  EXPECT_EQ(second.getSizeY(), first.getSizeY());
+  EXPECT_EQ(std::vector<std::int8_t>(second.getRawMap().begin(), second.getRawMap().end()), cells);
+  EXPECT_TRUE(second.layersAligned());
+  for (const auto d : second.dynamicRaw()) ASSERT_EQ(d, 0);
+  EXPECT_THROW(second.loadStatic(0, 0, 0.1, 4, 4, std::vector<std::int8_t>(16, 0)),
+               std::invalid_argument);
+  EXPECT_THROW(second.loadStatic(0, 0, 0.05, 4, 4, std::vector<std::int8_t>(15, 0)),
+               std::invalid_argument);
+  EXPECT_THROW(second.loadStatic(0, 0, 0.05, 100000, 1, std::vector<std::int8_t>(100000, 0)),
+               std::invalid_argument);  // 5 km: past max_map_size_m
+}
+
 }  // namespace
 }  // namespace dynamap

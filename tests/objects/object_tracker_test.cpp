@@ -438,5 +438,38 @@ TEST(ObjectTracker, AnObjectFiveCentimetresFromAWallIsReportedAndTheWallIsNot) {
   EXPECT_EQ(run.events(), (std::vector<ObjectEvent>{ObjectEvent::New}));
 }
 
+// A table carried over from an earlier session: its objects keep their ids, absent until found,
+// and a detection of a carried object's size takes its id; a new size gets the next id.
+TEST(ObjectTracker, ACarriedTableKeepsItsIdsAndHandsThemToWhatItFinds) {
+  TrackerRun run;
+  std::vector<TrackedObject> rows(3);
+  const double sizes[3] = {0.4, 0.3, 0.2};
+  for (int k = 0; k < 3; ++k) {
+    rows[k].id = k + 1;
+    rows[k].state = k == 1 ? ObjectState::Withdrawn : ObjectState::Present;
+    rows[k].shape.size = sizes[k];
+    rows[k].shape.cx = 1.0 - k;
+    rows[k].shape.cy = 2.0;
+  }
+  run.tracker.carryOver(rows, 0.0);
+  ASSERT_EQ(run.tracker.objects().size(), 3u);
+  EXPECT_EQ(run.tracker.objects()[0].state, ObjectState::Absent);
+  EXPECT_EQ(run.tracker.objects()[1].state, ObjectState::Withdrawn);  // never chosen
+  EXPECT_EQ(run.tracker.objects()[0].history.size(), 1u);
+  const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+  run.steps(10, pose, {});
+  run.steps(15, pose, {{1.0, -1.5, 0.4}, {0.0, 1.0, 0.6}});
+  ASSERT_EQ(run.tracker.objects().size(), 4u);
+  EXPECT_EQ(run.tracker.objects()[0].state, ObjectState::Present);  // the 0.4 m one, moved
+  EXPECT_NEAR(run.tracker.objects()[0].shape.cy, -1.5, 0.05);
+  EXPECT_EQ(run.tracker.objects()[0].history.size(), 2u);
+  EXPECT_EQ(run.tracker.objects()[2].state, ObjectState::Absent);  // not seen
+  EXPECT_NEAR(run.tracker.objects()[3].shape.size, 0.6, 0.05);     // new: the next id
+  EXPECT_THROW(run.tracker.carryOver(rows, 0.0), std::logic_error);
+  ObjectTracker fresh;
+  rows[2].id = 7;
+  EXPECT_THROW(fresh.carryOver(rows, 0.0), std::logic_error);
+}
+
 }  // namespace
 }  // namespace dynamap

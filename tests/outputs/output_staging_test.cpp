@@ -53,9 +53,9 @@ TEST(OutputStaging, ARerunReplacesThePreviousRunsOutputsAndKeepsOtherFiles) {
   EXPECT_EQ(entries(dir),
             (std::vector<std::string>{"config.ini", "dynamic.gridmap.gz", "dynamic.png",
                                       "events.csv", "notes.txt", "objects.csv", "overlay.png",
-                                      "people.csv", "poses.txt", "static.gridmap.gz",
-                                      "static.pgm", "static.png", "static.yaml", "summary.json",
-                                      "tracks.csv"}));
+                                      "people.csv", "poses.txt", "session.json",
+                                      "static.gridmap.gz", "static.pgm", "static.png",
+                                      "static.yaml", "summary.json", "tracks.csv"}));
 }
 
 TEST(OutputStaging, AnInterruptedRunLeavesTheDirectoryAsItWas) {

@@ -17,6 +17,9 @@ inline constexpr const char* kTracks =
 /// A map result's objects.csv: the final object table.
 inline constexpr const char* kObjects =
     "id,label,size_m,cx,cy,x_min,x_max,y_min,y_max,state,first_seen_t,last_seen_t,n_moves";
+/// A map result's changes.csv (with --prior): what changed since the prior session.
+inline constexpr const char* kChanges =
+    "kind,id,size_m,from_x,from_y,to_x,to_y,first_seen_t,cells";
 /// A map result's people.csv: every person track of every scan.
 inline constexpr const char* kPeople = "scan_index,t,person_id,x,y,vx,vy";
 

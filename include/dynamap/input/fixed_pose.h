@@ -22,4 +22,10 @@ std::string formatFixedPose(const mrpt::poses::CPose2D& pose);
 std::unique_ptr<ScanSource> withFixedPose(std::unique_ptr<ScanSource> inner,
                                           const mrpt::poses::CPose2D& pose);
 
+/// `inner`'s scans with every pose moved rigidly so that the first scan's pose is `first`: a
+/// session started at a known place of an earlier session's map (dynamap map --initial-pose).
+/// poseSource(), stats and progress are inner's.
+std::unique_ptr<ScanSource> startingAt(std::unique_ptr<ScanSource> inner,
+                                       const mrpt::poses::CPose2D& first);
+
 }  // namespace dynamap

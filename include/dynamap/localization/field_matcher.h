@@ -24,6 +24,7 @@ struct FieldMatch {
   /// Of a wide search: the best score found at a pose far from `pose` (0 if none); a ratio to
   /// `score` near 1 means the match is ambiguous (a symmetric corridor).
   double runner_up = 0;
+  mrpt::poses::CPose2D runner_up_pose;  ///< where runner_up was found
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  ///< J^T J of the points at `pose`
 };
 

@@ -51,6 +51,12 @@ struct ScanInsertStats {
   std::uint32_t free_cells = 0;  ///< distinct cells updated as crossed
 };
 
+/// [m] the widest side a grid under `options` reaches: max_map_size_m, plus the margin MRPT
+/// adds each time a grid grows (a few metres on each side).
+inline double maxGridSide(const DynamicMapOptions& options) {
+  return options.max_map_size_m + 20.0;
+}
+
 class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
  public:
   using cellType = mrpt::maps::COccupancyGridMap2D::cellType;
@@ -82,6 +88,12 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   /// `default_value` as MRPT does, D keeps what it held where the two geometries overlap.
   void setSize(float x_min, float x_max, float y_min, float y_max, float resolution,
                float default_value = 0.5f);
+  /// Starts S from another session's map of the same building: the grid becomes `size_x` x
+  /// `size_y` cells of `resolution` m from (x_min, y_min), S the given raw cells (row by row, as
+  /// getRawMap()), D empty everywhere. Throws std::invalid_argument when the resolution is not
+  /// this map's, the cells do not fill the grid, or a side is longer than maxGridSide().
+  void loadStatic(double x_min, double y_min, double resolution, unsigned size_x,
+                  unsigned size_y, const std::vector<std::int8_t>& cells);
   /// Whether D has S's geometry. The base's own resizing (through a base pointer, or loading a
   /// grid) changes S alone: D is then realigned at the next insertion, and until then the D
   /// accessors below answer from D's last geometry, never out of its bounds.

@@ -51,6 +51,15 @@ class ObjectTracker {
   };
   void setKeepOut(std::vector<KeepOut> discs) { keep_out_ = std::move(discs); }
 
+  /// Continues an earlier session's table, before the first update: `rows` become objects 1..n
+  /// (row k must have id k + 1). A row that table listed (present or absent) is absent here,
+  /// vanished at `t`, until this session finds it: identity by size then gives a detection the
+  /// id of the carried object it fits, nearest first. Other rows keep their state and are never
+  /// chosen. Each row's history becomes its carried place alone, so that a row whose history
+  /// grows was found this session. Throws std::logic_error after an update or with ids out of
+  /// order.
+  void carryOver(std::vector<TrackedObject> rows, double t);
+
   /// Withdraws object `id`, which is absent (gone from its place) and was a person standing, a
   /// layer above found: state Withdrawn, a Withdrawn event; no identity ever goes to it again.
   /// False (nothing done) when `id` is no object or not absent.

@@ -14,6 +14,7 @@
 #include "dynamap/input/carmen_reader.h"
 #include "dynamap/mapping/plain_grid.h"
 #include "dynamap/pipeline/mapper.h"
+#include "dynamap/pipeline/session_start.h"
 #include "dynamap/pipeline/slam_run.h"
 
 namespace dynamap {
@@ -34,6 +35,14 @@ struct MapJob {
   BagOptions bag;         ///< for ROS bag input
   bool baseline = true;   ///< also build the plain MRPT grid (mrpt_plain.png, summary.json)
   long frames_every = 0;  ///< > 0: frames/NNNNNN.png every this many scans, and timelapse.mp4
+  /// An earlier run's output directory (or its session.json): this run continues that session
+  /// (Mapper::continueFrom) and writes changes.csv and changes.png. Empty: a first session.
+  std::string prior;
+  /// Where the first scan was taken, in the prior's frame: every pose is moved rigidly to
+  /// start there. Not given, with a prior and poses from odometry (odometry, scan_matching,
+  /// slam), the start is searched for in the prior's map (locateStart); poses that are in the
+  /// prior's frame already (ground truth, simplemap, fixed) are kept as they are.
+  std::optional<mrpt::poses::CPose2D> initial_pose;
   /// Called after every scan with the share of the input read (negative: unknown) and the
   /// scans mapped so far; may be empty.
   std::function<void(double fraction, std::size_t scans_used)> progress;
@@ -61,6 +70,8 @@ struct MapJobResult {
   InputOutcome outcome;  ///< fault: the input ended in one, outputs cover what came before
   /// Pose source slam: pass 1's counts and time (wall_s is then pass 2's).
   std::optional<SlamStats> slam;
+  /// With a prior and no initial pose on odometry-based poses: where the search placed the start.
+  std::optional<GlobalPlacement> start;
   double slam_wall_s = 0;
 };
 

@@ -12,6 +12,7 @@
 #include "dynamap/objects/object_tracker.h"
 #include "dynamap/people/person_tracker.h"
 #include "dynamap/pipeline/robot_path.h"
+#include "dynamap/pipeline/session_changes.h"
 
 namespace dynamap {
 
@@ -49,6 +50,13 @@ mrpt::img::CImage renderStaticOn(const mrpt::maps::COccupancyGridMap2D& grid,
 mrpt::img::CImage renderOverlay(const DynamicGridMap& map, const std::vector<PathPoint>& path,
                                 const std::vector<TrackedObject>* objects = nullptr,
                                 const std::vector<PersonTrail>* people = nullptr);
+
+/// changes.png: the prior session's S in grey (this session's S where the prior saw nothing),
+/// structure removed in red and added in green, each moved object an arrow from its old place to
+/// its new one, each new object a green ring and each gone object a red ring, labelled with its
+/// id and size; a scale bar and a legend below. Shows the observed part of the grid.
+mrpt::img::CImage renderChanges(const DynamicGridMap& map, const SessionChanges& changes,
+                                const std::vector<ChangeRow>& rows);
 
 /// Draws each trail of `people` (see renderOverlay).
 void drawPeople(mrpt::img::CImage& img, const DynamicGridMap& map, const View& view,

@@ -11,6 +11,7 @@
 
 #include "dynamap/objects/object_tracker.h"
 #include "dynamap/people/person_tracker.h"
+#include "dynamap/pipeline/session_changes.h"
 
 namespace dynamap {
 
@@ -81,5 +82,7 @@ bool eventsListed(const ObjectTracker& tracker, int id);
 /// while it was reported.
 void writeObjectsCsv(std::ostream& out, const ObjectTracker& tracker);
 void writeEventsCsv(std::ostream& out, const ObjectTracker& tracker);
+/// changes.csv: one row per change (csv::kChanges); a place or time not known is left empty.
+void writeChangesCsv(std::ostream& out, const std::vector<ChangeRow>& rows);
 
 }  // namespace dynamap

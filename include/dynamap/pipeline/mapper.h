@@ -20,6 +20,7 @@
 #include "dynamap/people/person_tracker.h"
 #include "dynamap/pipeline/people_objects.h"
 #include "dynamap/pipeline/robot_path.h"
+#include "dynamap/pipeline/session_changes.h"
 
 namespace dynamap {
 
@@ -33,6 +34,7 @@ struct MapConfig {
   PeopleOptions people;
   ScanMatchOptions scan_matching;       ///< used when poses is ScanMatching
   SlamOptions slam;                     ///< used when poses is Slam
+  ChangeOptions changes;                ///< used when a session continues a prior one
   PoseSource poses = PoseSource::Auto;  ///< [input] poses
   mrpt::poses::CPose2D fixed_pose;      ///< [input] fixed_pose: every scan's pose when Fixed
   /// [input] pose_max_gap [s]: PoseTrackOptions::max_gap (0: from the log's own spacing).
@@ -87,6 +89,18 @@ class Mapper {
   /// scan applied to the last pose used, then corrected by matching the scan against S.
   ScanResult process(const ScanRecord& rec);
 
+  /// Continues an earlier session (before the first scan): S becomes the prior's, D stays
+  /// empty, the object table is the prior's (every object absent until found again, from the
+  /// first scan on) and the run reports what changed (changes()). Throws std::invalid_argument
+  /// when the prior's grid does not fit this run's [dynamic_map] (its resolution, its size).
+  void continueFrom(const SessionState& prior);
+  /// The change report's state when continuing a prior session; null otherwise.
+  const SessionChanges* changes() const { return changes_.get(); }
+  /// What this run leaves for the next session: S, the object table, the last pose and time.
+  SessionState sessionState() const;
+  /// Which session of its building this run is: 1, or the prior's count plus one.
+  int sessions() const { return sessions_; }
+
   const DynamicGridMap& map() const { return map_; }
   DynamicGridMap& map() { return map_; }
   const ObjectTracker& tracker() const { return tracker_; }
@@ -128,6 +142,12 @@ class Mapper {
   static constexpr double kSurfaceShare = 0.05;
   RunCounts counts_;
   bool have_t_ = false;
+  // A prior session: its table waits for the first scan's time; sessions counts them.
+  std::unique_ptr<std::vector<TrackedObject>> carried_;
+  std::unique_ptr<SessionChanges> changes_;
+  int sessions_ = 1;
+  mrpt::poses::CPose2D last_scan_pose_;  // of the last scan inserted
+  double last_scan_t_ = 0;
   std::unique_ptr<ScanMatcher> matcher_;  // null unless poses is ScanMatching
   ScanMatchCounts match_counts_;
   bool have_pose_ = false;
