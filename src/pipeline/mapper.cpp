@@ -218,7 +218,8 @@ SessionState Mapper::sessionState() const {
   s.size_x = map_.getSizeX();
   s.size_y = map_.getSizeY();
   s.static_cells.assign(map_.getRawMap().begin(), map_.getRawMap().end());
-  for (const TrackedObject& o : tracker_.objects()) {
+  // Before the first scan inserted, the table is still the prior's, waiting: it is kept.
+  for (const TrackedObject& o : carried_ ? *carried_ : tracker_.objects()) {
     s.objects.push_back({o.id, toString(o.state), o.shape.cx, o.shape.cy, o.shape.size, o.n_moves,
                          o.first_seen_t, o.last_seen_t});
   }

@@ -97,6 +97,8 @@ std::int8_t SessionChanges::priorCell(double x, double y) const {
 
 void SessionChanges::carriedChanges(const ObjectTracker& tracker,
                                     std::vector<ChangeRow>& rows) const {
+  // The tracker holds the carried rows from the first scan inserted on: none, nothing changed.
+  if (tracker.objects().size() < prior_.objects.size()) return;
   for (std::size_t k = 0; k < prior_.objects.size(); ++k) {
     const TrackedObject& o = tracker.objects()[k];
     // A carried row's history starts with its carried place: more is what this session found.
