@@ -95,6 +95,10 @@ std::int8_t SessionChanges::priorCell(double x, double y) const {
                              static_cast<std::size_t>(fy) * prior_.size_x];
 }
 
+bool SessionChanges::seenEmpty(const Place& p) const {
+  return p.seen_free >= options_.gone_views && p.seen_free > p.seen_occupied;
+}
+
 void SessionChanges::carriedChanges(const ObjectTracker& tracker,
                                     std::vector<ChangeRow>& rows) const {
   // The tracker holds the carried rows from the first scan inserted on: none, nothing changed.
@@ -106,6 +110,11 @@ void SessionChanges::carriedChanges(const ObjectTracker& tracker,
     const SessionObject& before = prior_.objects[k];
     if (std::hypot(o.shape.cx - before.cx, o.shape.cy - before.cy) <= objects_.move_distance)
       continue;
+    // An object the prior held present moved only if its place was seen empty: else the id went
+    // to something else of its size, and the object may well stand where it stood.
+    const auto place = std::find_if(places_.begin(), places_.end(),
+                                    [&](const Place& p) { return p.id == o.id; });
+    if (place != places_.end() && !seenEmpty(*place)) continue;
     ChangeRow r = changeRow("object_moved", o.id, o.shape.size);
     r.from_x = before.cx;
     r.from_y = before.cy;
@@ -116,10 +125,7 @@ void SessionChanges::carriedChanges(const ObjectTracker& tracker,
   }
   for (const Place& p : places_) {
     const TrackedObject& o = tracker.objects()[static_cast<std::size_t>(p.id - 1)];
-    if (o.history.size() >= 2 || p.seen_free < options_.gone_views ||
-        p.seen_free <= p.seen_occupied) {
-      continue;
-    }
+    if (o.history.size() >= 2 || !seenEmpty(p)) continue;
     ChangeRow r = changeRow("object_gone", p.id, p.size);
     r.from_x = p.cx;
     r.from_y = p.cy;

@@ -10,7 +10,8 @@
 // not grow with the map. report() reads the maps once, at the end:
 //
 //  * object_moved: a carried object found this session farther than [objects] move_distance
-//    from its place in the prior; or an object new to the table whose size (within [objects]
+//    from its place in the prior (which, if the prior held it present, gone_views scans saw
+//    empty, more than saw it occupied); or an object new to the table whose size (within [objects]
 //    size_tolerance) is that of a place the prior's S held occupied and S now holds free (an
 //    object that had never moved before: the paper's S holds it), at most [objects]
 //    far_match_distance away. object_new: an object new to
@@ -98,6 +99,8 @@ class SessionChanges {
     double cx, cy, size;
     int seen_free = 0, seen_occupied = 0;
   };
+  /// Whether at least gone_views scans saw the place empty, more than saw it occupied.
+  bool seenEmpty(const Place& p) const;
   /// Changes of the objects the prior's table held.
   void carriedChanges(const ObjectTracker& tracker, std::vector<ChangeRow>& rows) const;
   /// carriedChanges, then each object new to the table: moved from the `vacated` place of its
