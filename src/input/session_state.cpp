@@ -1,9 +1,9 @@
 #include "dynamap/input/session_state.h"
 
-#include <mrpt/system/string_utils.h>
 #include <sys/stat.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -25,6 +25,21 @@ constexpr double kMaxCoordinate = 1e7, kMaxSize = 1e3;
 
 const char* const kStates[] = {"present", "absent", "withdrawn", "relabeled", "retracted"};
 
+const char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+// Base64 (RFC 4648, padded), on one line.
+std::string encodeBase64(const std::vector<std::uint8_t>& in) {
+  std::string out;
+  out.reserve((in.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < in.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, in.size() - i);
+    std::uint32_t v = 0;
+    for (std::size_t k = 0; k < 3; ++k) v = (v << 8) | (k < n ? in[i + k] : 0u);
+    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kBase64[(v >> (18 - 6 * k)) & 63] : '=';
+  }
+  return out;
+}
+
 std::string compressCells(const std::vector<std::int8_t>& cells) {
   uLongf len = compressBound(static_cast<uLong>(cells.size()));
   std::vector<std::uint8_t> buf(len);
@@ -33,9 +48,7 @@ std::string compressCells(const std::vector<std::int8_t>& cells) {
     throw std::runtime_error("session state: cannot compress the grid");
   }
   buf.resize(len);
-  std::string out;
-  mrpt::system::encodeBase64(buf, out);
-  return out;
+  return encodeBase64(buf);
 }
 
 // Reads what the caller checks: the file's name and the key in every message.
@@ -76,9 +89,39 @@ struct Reader {
   }
 };
 
+// Strict base64 (RFC 4648, padded; line breaks skipped): false on any other character or
+// length. MRPT's decoder would do, but prints its complaints on the console.
+bool decodeBase64(const std::string& text, std::vector<std::uint8_t>& out) {
+  std::string in;
+  for (const char c : text) {
+    if (c != '\n' && c != '\r') in += c;
+  }
+  if (in.size() % 4 != 0) return false;
+  const auto value = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    return c == '+' ? 62 : c == '/' ? 63 : -1;
+  };
+  out.clear();
+  out.reserve(in.size() / 4 * 3);
+  for (std::size_t i = 0; i < in.size(); i += 4) {
+    const bool last = i + 4 == in.size();
+    const int pad = last ? (in[i + 3] == '=') + (in[i + 2] == '=' && in[i + 3] == '=') : 0;
+    std::uint32_t v = 0;
+    for (int k = 0; k < 4; ++k) {
+      const int d = k >= 4 - pad ? 0 : value(in[i + k]);
+      if (d < 0) return false;
+      v = (v << 6) | static_cast<std::uint32_t>(d);
+    }
+    for (int k = 0; k < 3 - pad; ++k) out.push_back(static_cast<std::uint8_t>(v >> (16 - 8 * k)));
+  }
+  return true;
+}
+
 std::vector<std::int8_t> cellsOf(const Reader& r, const std::string& coded, std::size_t count) {
   std::vector<std::uint8_t> packed;
-  if (!mrpt::system::decodeBase64(coded, packed)) r.fail("grid.static", "not base64");
+  if (!decodeBase64(coded, packed)) r.fail("grid.static", "not base64");
   std::vector<std::int8_t> cells(count);
   uLongf len = static_cast<uLongf>(count);
   if (uncompress(reinterpret_cast<Bytef*>(cells.data()), &len, packed.data(),

@@ -85,6 +85,10 @@ TEST(SessionState, EveryFaultNamesTheFileAndTheKey) {
             "prior/session.json: grid.size_x: out of range [1, 16777216]");
   EXPECT_EQ(failure(replaced(good, "\"resolution\": 0.05", "\"resolution\": \"fine\"")),
             "prior/session.json: grid.resolution: not a number");
+  EXPECT_EQ(failure(replaced(good, "\"static\": \"", "\"static\": \"%%%%")),
+            "prior/session.json: grid.static: not base64");
+  EXPECT_EQ(failure(replaced(good, "\"static\": \"", "\"static\": \"AA")),
+            "prior/session.json: grid.static: not base64");
   EXPECT_EQ(failure(replaced(good, "\"static\": \"", "\"static\": \"AAAA")),
             "prior/session.json: grid.static: not 35 zlib-compressed cells");
   EXPECT_EQ(failure(replaced(good, "\"state\": \"absent\"", "\"state\": \"lost\"")),
