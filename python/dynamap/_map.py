@@ -23,6 +23,8 @@ _VALUE_OPTIONS = {
     "odom_frame": "--odom-frame",
     "base_frame": "--base-frame",
     "gt_frame": "--gt-frame",
+    "prior": "--prior",
+    "initial_pose": "--initial-pose",
 }
 
 
@@ -36,6 +38,7 @@ class MapResult:
     origin: (x_min, y_min) [m] of the grid's corner; resolution: a cell's side [m].
     poses: N x 4 array (t [s], x [m], y [m], phi [rad]): the pose each scan was mapped at.
     objects, events, tracks, people: the run's tables (objects.csv, ...).
+    changes: with prior=..., what changed since that session (changes.csv); else None.
     summary: summary.json as a dict. pose_source: the pose source used (never auto).
     fault: the fault the input ended in ("" when it was read to its end); warnings: what the
         command prints as warnings. out: the output directory (None when it was temporary).
@@ -55,6 +58,8 @@ class MapResult:
         self.poses = poses.reshape(-1, 4) if poses.size else np.zeros((0, 4))
         for name in ("objects", "events", "tracks", "people"):
             setattr(self, name, read_table(os.path.join(out_dir, name + ".csv")))
+        changes = os.path.join(out_dir, "changes.csv")
+        self.changes = read_table(changes) if os.path.exists(changes) else None
         self.out = out_dir if keep else None
 
     def __repr__(self):
@@ -81,7 +86,9 @@ def map_args(input, config=None, poses="auto", out=None, baseline=True, skip_bad
             raise TypeError(f"map() got an unexpected keyword argument '{key}'")
         if value is None:
             continue
-        if key == "fixed_pose" and not isinstance(value, str):
+        if key == "prior":
+            value = os.fspath(value)
+        if key in ("fixed_pose", "initial_pose") and not isinstance(value, str):
             value = " ".join(repr(float(v)) for v in value)
         args += [_VALUE_OPTIONS[key], str(value)]
     return args
@@ -95,7 +102,9 @@ def map(input, config=None, poses="auto", out=None, **options):
     output directory, written as by the command (None: a temporary one, removed afterwards).
     Further keywords stand for the command's options: baseline=False (--no-baseline),
     skip_bad_lines, fixed_pose=(x, y, phi), frames_every, fov, carmen_odometry, scan_topic,
-    odom_topic, odom_frame, base_frame, gt_frame.
+    odom_topic, odom_frame, base_frame, gt_frame, prior (an earlier run's output folder: this
+    run continues that session and reports what changed, MapResult.changes), initial_pose=(x, y,
+    phi) (where the log starts in the prior's map).
     Raises dynamap.UsageError, ConfigError, InputError or Error with the command's message;
     the command's warnings become DynamapWarning. The GIL is released while the log is mapped.
     """

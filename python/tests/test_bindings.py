@@ -102,6 +102,23 @@ def test_a_temporary_output_folder_is_removed(exe):
     assert set(glob.glob(os.path.join(tempfile.gettempdir(), "dynamap-*"))) == before
 
 
+def test_a_session_continued_from_a_prior_reports_its_changes_as_the_command_does(tmp_path, exe):
+    first = tmp_path / "first"
+    dynamap.map(bundled("tiny"), out=first)
+    r = dynamap.map(bundled("tiny"), out=tmp_path / "again", prior=first)
+    status, err = run_cli("--input", bundled("tiny"), "--out", str(tmp_path / "cli"),
+                          "--prior", str(first))
+    assert status == 0, err
+    with open(tmp_path / "cli" / "changes.csv") as f:
+        expected = _tables.parse_table(f.read())
+    assert list(r.changes.columns) == list(expected.columns)
+    assert len(r.changes) == len(expected)
+    assert r.summary["changes"]["session"] == 2
+    assert dynamap.map(bundled("tiny")).changes is None
+    with pytest.raises(dynamap.UsageError, match="--initial-pose: only with --prior"):
+        dynamap.map(bundled("tiny"), initial_pose=(0, 0, 0))
+
+
 def _cli_error(*args):
     status, err = run_cli(*args)
     return status, err.strip().splitlines()[-1]
