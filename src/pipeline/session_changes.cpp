@@ -5,7 +5,6 @@
 
 #include "dynamap/base/hungarian.h"
 #include "dynamap/base/ini.h"
-#include "dynamap/objects/clustering.h"
 #include "dynamap/objects/shape.h"
 
 namespace dynamap {
@@ -190,23 +189,32 @@ struct Region {
   double first_t = HUGE_VAL;
 };
 
-// The 8-connected groups of `cells` (clusterCells joining centres up to a diagonal apart), each
-// in the order a row-by-row scan from its first cell meets it, the groups in the order of their
-// first cells.
-std::vector<Region> regionsOf(const std::vector<CellXY>& cells) {
-  constexpr double kDiagonal = 1.5;  // cells: sqrt(2) joins diagonal neighbours, 2 does not
+// The 8-connected groups of the cells `mask` marks, on a grid `sx` wide.
+std::vector<Region> regionsOf(std::vector<std::uint8_t>& mask, int sx, int sy) {
   std::vector<Region> out;
-  for (std::vector<CellXY>& cluster : clusterCells(cells, kDiagonal)) {
-    std::sort(cluster.begin(), cluster.end(),
-              [](CellXY a, CellXY b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
-    Region r;
-    for (const CellXY& c : cluster) r.cells.push_back({c.x, c.y});
-    out.push_back(std::move(r));
+  std::vector<std::pair<int, int>> stack;
+  for (int y0 = 0; y0 < sy; ++y0) {
+    for (int x0 = 0; x0 < sx; ++x0) {
+      if (!mask[static_cast<std::size_t>(y0) * sx + x0]) continue;
+      Region r;
+      mask[static_cast<std::size_t>(y0) * sx + x0] = 0;
+      stack.push_back({x0, y0});
+      while (!stack.empty()) {
+        const auto [x, y] = stack.back();
+        stack.pop_back();
+        r.cells.push_back({x, y});
+        for (int ny = std::max(0, y - 1); ny <= std::min(sy - 1, y + 1); ++ny) {
+          for (int nx = std::max(0, x - 1); nx <= std::min(sx - 1, x + 1); ++nx) {
+            auto& m = mask[static_cast<std::size_t>(ny) * sx + nx];
+            if (!m) continue;
+            m = 0;
+            stack.push_back({nx, ny});
+          }
+        }
+      }
+      out.push_back(std::move(r));
+    }
   }
-  std::sort(out.begin(), out.end(), [](const Region& a, const Region& b) {
-    return a.cells[0].second != b.cells[0].second ? a.cells[0].second < b.cells[0].second
-                                                  : a.cells[0].first < b.cells[0].first;
-  });
   return out;
 }
 
@@ -257,29 +265,28 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
     return DynamicGridMap::isOccupiedValue(prior(x, y));
   };
   const auto now_occupied = [&](int x, int y) { return map.isStaticOccupied(x, y); };
-  std::vector<CellXY> added, removed;
+  std::vector<std::uint8_t> added(static_cast<std::size_t>(sx) * sy, 0), removed(added.size(), 0);
   for (int y = 0; y < sy; ++y) {
     for (int x = 0; x < sx; ++x) {
       const std::int8_t p = prior(x, y);
       const std::size_t i = static_cast<std::size_t>(y) * sx + x;
       if (p >= map.freeThresholdCell() && map.isObjectIndex(i) && !near(x, y, m, prior_occupied)) {
         const auto e = entered_.find(cellKey(x + ox, y + oy));
-        if (e != entered_.end() && e->second <= last_t_ - options_.structure_stay_s)
-          added.push_back({x, y});
+        added[i] = e != entered_.end() && e->second <= last_t_ - options_.structure_stay_s;
       } else if (DynamicGridMap::staticOccupancyOfValue(p) > options_.removed_occupancy &&
-                 map.isStaticFree(x, y) && !near(x, y, m, now_occupied)) {
-        removed.push_back({x, y});
+                 map.isStaticFree(x, y)) {
+        removed[i] = !near(x, y, m, now_occupied);
       }
     }
   }
   std::vector<ChangeRow> found;
-  for (Region& r : regionsOf(added)) {
+  for (Region& r : regionsOf(added, sx, sy)) {
     for (const auto& [x, y] : r.cells) r.first_t = std::min(r.first_t, entered_.at(cellKey(x + ox, y + oy)));
     ChangeRow row = rowOf(r, "structure_added", map);
     if (row.size > objects_.max_size && static_cast<int>(row.cells) >= options_.structure_min_cells)
       found.push_back(row);
   }
-  for (const Region& r : regionsOf(removed)) {
+  for (const Region& r : regionsOf(removed, sx, sy)) {
     if (static_cast<int>(r.cells.size()) < options_.structure_min_cells) continue;
     ChangeRow row = rowOf(r, "structure_removed", map);
     if (row.size <= objects_.max_size) {  // an object's size: a place an object left
