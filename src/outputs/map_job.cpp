@@ -128,19 +128,19 @@ bool odometryBased(PoseSource p) {
   return p == PoseSource::Odometry || p == PoseSource::ScanMatching || p == PoseSource::Slam;
 }
 
-/// `source` moved to start where --initial-pose says, or, with a prior and poses in the log's
-/// own frame, where the search places its first scans in the prior's map (returned).
+/// `source` moved to start where --initial-pose says, or, with a prior (`prior_map`: its S) and
+/// poses in the log's own frame, where the search places its first scans in it (returned).
 std::optional<GlobalPlacement> startInPrior(const MapJob& job, const InputOptions& input,
                                             const MapConfig& config,
-                                            const std::optional<SessionState>& prior,
+                                            const mrpt::maps::COccupancyGridMap2D* prior_map,
                                             std::unique_ptr<ScanSource>& source) {
   if (job.initial_pose) {
     source = startingAt(std::move(source), *job.initial_pose);
     return std::nullopt;
   }
-  if (!prior || !odometryBased(source->poseSource())) return std::nullopt;
+  if (!prior_map || !odometryBased(source->poseSource())) return std::nullopt;
   auto probe = openScanSource(job.input, input);  // the log's first scans, read again
-  const GlobalPlacement placed = locateStart(*probe, *prior, config, job.input);
+  const GlobalPlacement placed = locateStart(*probe, *prior_map, config.insertion, job.input);
   source = startingAt(std::move(source), placed.pose);
   return placed;
 }
@@ -155,7 +155,7 @@ std::optional<SessionState> readPrior(const MapJob& job) {
 // The run with every output written into `stage`, committed at the end.
 MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   const std::string& dir = stage.path();
-  const std::optional<SessionState> prior = readPrior(job);
+  std::optional<SessionState> prior = readPrior(job);
   InputOptions input = inputOptions(job);
   input.poses = job.config.poses;
   input.fixed_pose = job.config.fixed_pose;
@@ -164,16 +164,18 @@ MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   MapConfig config = job.config;
   std::unique_ptr<SlamRun> slam;
   if (usesSlam(config.poses, *source)) slam = slamPass(job, config, source);
-  const std::optional<GlobalPlacement> placed = startInPrior(job, input, config, prior, source);
   Mapper mapper(config);
   if (prior) {
     try {
-      mapper.continueFrom(*prior);
+      mapper.continueFrom(std::move(*prior));
     } catch (const std::invalid_argument& e) {
       throw InputError(job.prior + ": the prior session's map does not fit this run: " +
                        e.what());
     }
   }
+  // Before the first scan the mapper's S is the prior's: the start is searched for there.
+  const std::optional<GlobalPlacement> placed =
+      startInPrior(job, input, config, prior ? &mapper.map() : nullptr, source);
   Writers w(job, dir);
   const auto start = Clock::now();
   MapJobResult r;

@@ -182,7 +182,7 @@ Mapper::Mapper(const MapConfig& config)
   }
 }
 
-void Mapper::continueFrom(const SessionState& prior) {
+void Mapper::continueFrom(SessionState prior) {
   map_.loadStatic(prior.x_min, prior.y_min, prior.resolution, prior.size_x, prior.size_y,
                   prior.static_cells);
   carried_ = std::make_unique<std::vector<TrackedObject>>();
@@ -205,8 +205,8 @@ void Mapper::continueFrom(const SessionState& prior) {
     row.last_seen_t = o.last_seen_t;
     carried_->push_back(row);
   }
-  changes_ = std::make_unique<SessionChanges>(prior, config_.changes, config_.objects);
   sessions_ = prior.sessions + 1;
+  changes_ = std::make_unique<SessionChanges>(std::move(prior), config_.changes, config_.objects);
 }
 
 SessionState Mapper::sessionState() const {

@@ -36,9 +36,9 @@ void ChangeOptions::writeIni(std::ostream& out) const {
   table().write(*this, out);
 }
 
-SessionChanges::SessionChanges(const SessionState& prior, const ChangeOptions& options,
+SessionChanges::SessionChanges(SessionState prior, const ChangeOptions& options,
                                const ObjectOptions& objects)
-    : options_(options), objects_(objects), prior_(prior) {
+    : options_(options), objects_(objects), prior_(std::move(prior)) {
   for (const SessionObject& o : prior_.objects) {
     if (o.state == "present") places_.push_back({o.id, o.cx, o.cy, o.size});
   }

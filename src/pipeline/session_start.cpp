@@ -43,14 +43,11 @@ std::vector<mrpt::math::TPoint2D> firstScans(ScanSource& source, const Insertion
 
 }  // namespace
 
-GlobalPlacement locateStart(ScanSource& source, const SessionState& prior, const MapConfig& config,
-                            const std::string& log) {
-  DynamicGridMap map(config.map, config.insertion);
-  map.loadStatic(prior.x_min, prior.y_min, prior.resolution, prior.size_x, prior.size_y,
-                 prior.static_cells);
+GlobalPlacement locateStart(ScanSource& source, const mrpt::maps::COccupancyGridMap2D& prior_map,
+                            const InsertionOptions& insertion, const std::string& log) {
   std::vector<mrpt::math::TPoint2D> head;
-  const std::vector<mrpt::math::TPoint2D> pts = firstScans(source, config.insertion, head);
-  const GlobalPlacement g = placeInMap(map, pts, head);
+  const std::vector<mrpt::math::TPoint2D> pts = firstScans(source, insertion, head);
+  const GlobalPlacement g = placeInMap(prior_map, pts, head);
   char what[160];
   std::snprintf(what, sizeof what, "best %s (fit %.2f), next %s (fit %.2f)",
                 poseText(g.pose).c_str(), g.score, poseText(g.runner_up_pose).c_str(),

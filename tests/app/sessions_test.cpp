@@ -256,6 +256,14 @@ TEST_F(Sessions, ErrorsNameTheOptionOrTheFile) {
   EXPECT_NE(out.find(dir_ + "/m1: the prior session's map does not fit this run: its resolution"),
             std::string::npos)
       << out;
+  // The same on odometry, where the start is searched for: the prior is checked first.
+  EXPECT_EQ(test::run(kExe + " map --input " + dir_ + "/sim/s2.rawlog --poses odometry --config " +
+                          dir_ + "/coarse.ini --prior " + dir_ + "/m1 --out " + dir_ + "/e5",
+                      &out),
+            1);
+  EXPECT_NE(out.find(dir_ + "/m1: the prior session's map does not fit this run: its resolution"),
+            std::string::npos)
+      << out;
 }
 
 // Without --initial-pose, on odometry: the first scans are searched for in the whole prior map

@@ -93,7 +93,7 @@ class Mapper {
   /// empty, the object table is the prior's (every object absent until found again, from the
   /// first scan on) and the run reports what changed (changes()). Throws std::invalid_argument
   /// when the prior's grid does not fit this run's [dynamic_map] (its resolution, its size).
-  void continueFrom(const SessionState& prior);
+  void continueFrom(SessionState prior);
   /// The change report's state when continuing a prior session; null otherwise.
   const SessionChanges* changes() const { return changes_.get(); }
   /// What this run leaves for the next session: S, the object table, the last pose and time.

@@ -82,8 +82,7 @@ struct ChangeRow {
 class SessionChanges {
  public:
   /// `prior` is the earlier session's state; its grid must have `map`'s resolution.
-  SessionChanges(const SessionState& prior, const ChangeOptions& options,
-                 const ObjectOptions& objects);
+  SessionChanges(SessionState prior, const ChangeOptions& options, const ObjectOptions& objects);
 
   /// After the scan seen as `view` was inserted into `map` at time `t`.
   void update(const DynamicGridMap& map, const ScanView& view, double t);
