@@ -23,6 +23,9 @@ po::options_description simulateOptions() {
       "  <name>.objects.csv  every object and person at every scan, with the beams it got\n"
       "  <name>.moves.csv    every object move\n"
       "  <name>.world.png    the world at t = 0\n"
+      "A scenario with [session.N] sections writes session 1 as above, each later session as\n"
+      "<name>.s<N>.* (its own route, the changes made before it applied, a day later on the\n"
+      "clock) and the truth of the changes between sessions as <name>.changes.csv.\n"
       "The same scenario gives byte-identical files on every run.\n\noptions");
   o.add_options()("help,h", "print this help")(
       "scenario", po::value<std::string>()->value_name("FILE"), "scenario .ini file (required)")(
@@ -50,12 +53,21 @@ int runSimulate(const Args& args) {
   if (!vm.count("out")) throw UsageError("--out is required");
   const std::string out = vm["out"].as<std::string>();
   const sim::Scenario scenario = sim::loadScenario(vm["scenario"].as<std::string>());
-  const std::size_t scans = sim::writeSimulation(scenario, out);
+  const std::vector<std::size_t> scans = sim::writeSessions(scenario, out);
   const auto files = sim::outputPaths(scenario, out);
-  std::cout << "dynamap simulate: " << scenario.name << ": " << scans << " scans, "
+  std::cout << "dynamap simulate: " << scenario.name << ": " << scans.front() << " scans, "
             << scenario.objects.size() << " objects, " << scenario.moves.size() << " moves, "
             << scenario.people.size() << " people -> " << files.rawlog << " (+ .gt.txt, "
             << ".objects.csv, .moves.csv, .world.png)\n";
+  for (std::size_t i = 1; i < scans.size(); ++i) {
+    const auto session = sim::sessionScenario(scenario, static_cast<int>(i) + 1);
+    std::cout << "  session " << i + 1 << ": " << scans[i] << " scans, " << session.objects.size()
+              << " objects -> " << sim::outputPaths(session, out).rawlog << "\n";
+  }
+  if (scans.size() > 1) {
+    std::cout << "  " << sim::sessionChanges(scenario).size() << " changes between sessions -> "
+              << out << "/" << scenario.name << ".changes.csv\n";
+  }
   return kExitOk;
 }
 

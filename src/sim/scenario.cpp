@@ -8,15 +8,11 @@
 #include <map>
 #include <sstream>
 
+#include "scenario_parse.h"
+
 namespace dynamap::sim {
-namespace {
 
-// A waypoint closer than this to a wall counts as inside it: walls have no thickness in the
-// simulation, and a robot standing on one would see through it.
-constexpr double kWallClearance = 0.05;
-
-const std::vector<std::string> kSections = {"scenario", "world",   "robot", "laser",
-                                            "odometry", "objects", "moves", "people"};
+namespace parse {
 
 std::string fmt(double v) {
   std::ostringstream s;
@@ -27,11 +23,10 @@ std::string fmt(Vec2 p) {
   return "(" + fmt(p.x) + " " + fmt(p.y) + ")";
 }
 
-/// Keys "<prefix>.<n>" of a section, sorted by n; any other key not in `others` is an error.
 std::vector<std::pair<int, std::string>> numberedKeys(const IniFile& ini,
                                                       const std::string& section,
                                                       const std::string& prefix,
-                                                      const std::vector<std::string>& others = {}) {
+                                                      const std::vector<std::string>& others) {
   std::vector<std::pair<int, std::string>> out;
   for (const auto& k : ini.keys(section)) {
     if (std::find(others.begin(), others.end(), k) != others.end()) continue;
@@ -80,6 +75,98 @@ int integer(const IniFile& ini, const std::string& s, const std::string& k, doub
   if (v != std::floor(v) || std::abs(v) > 1e9) ini.fail(s, k, fmt(v) + " must be an integer");
   return static_cast<int>(v);
 }
+
+namespace {
+std::string wallName(const std::string& key) {
+  return key.rfind("[", 0) == 0 ? key : "[world] " + key;
+}
+}  // namespace
+
+std::string wallOverlapping(const Scenario& sc, Vec2 c, double r) {
+  for (std::size_t i = 0; i < sc.world.segments.size(); ++i) {
+    if (discOverlapsSegment(c, r, sc.world.segments[i])) return wallName(sc.wall_keys[i]);
+  }
+  if (discOverlapsGrid(c, r, sc.world.grid)) return "[world] map_image";
+  return "";
+}
+
+std::string wallCrossed(const Scenario& sc, const Segment& leg) {
+  for (std::size_t i = 0; i < sc.world.segments.size(); ++i) {
+    if (segmentsIntersect(leg, sc.world.segments[i])) return wallName(sc.wall_keys[i]);
+  }
+  if (segmentCrossesGrid(leg, sc.world.grid)) return "[world] map_image";
+  return "";
+}
+
+std::vector<std::string> keysWithPrefix(const IniFile& ini, const std::string& section,
+                                        const std::vector<std::string>& prefixes) {
+  std::vector<std::string> out;
+  for (const auto& k : ini.keys(section)) {
+    for (const auto& p : prefixes) {
+      if (k.rfind(p + ".", 0) == 0) out.push_back(k);
+    }
+  }
+  return out;
+}
+
+void checkRoute(const IniFile& ini, const Scenario& sc, const std::string& section) {
+  const auto& w = sc.robot.waypoints;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const std::string wall = wallOverlapping(sc, w[i], kWallClearance);
+    if (!wall.empty()) {
+      ini.fail(section, "waypoints",
+               "waypoint " + std::to_string(i + 1) + " " + fmt(w[i]) + " is inside " + wall);
+    }
+  }
+  const std::size_t legs = w.size() < 2 ? 0 : (sc.robot.loop ? w.size() : w.size() - 1);
+  for (std::size_t i = 0; i < legs; ++i) {
+    const Segment leg{w[i], w[(i + 1) % w.size()]};
+    const std::string wall = wallCrossed(sc, leg);
+    if (!wall.empty()) {
+      ini.fail(section, "waypoints",
+               "the leg " + fmt(leg.a) + " -> " + fmt(leg.b) + " crosses " + wall);
+    }
+  }
+}
+
+std::size_t objectIndex(const Scenario& sc, int id) {
+  for (std::size_t i = 0; i < sc.objects.size(); ++i) {
+    if (sc.objects[i].id == id) return i;
+  }
+  return sc.objects.size();
+}
+
+namespace {
+bool gliding(const Scenario& sc, int object_id, double t) {
+  return std::any_of(sc.moves.begin(), sc.moves.end(), [&](const MoveSpec& m) {
+    return m.object_id == object_id && t > m.t_start && t < m.tEnd();
+  });
+}
+}  // namespace
+
+void checkObjectsApart(const IniFile& ini, const Scenario& sc, double t, int mover,
+                       const std::string& section, const std::string& key) {
+  const std::size_t i = objectIndex(sc, mover);
+  const Vec2 p = objectPositionAt(sc, i, t);
+  for (std::size_t j = 0; j < sc.objects.size(); ++j) {
+    if (j == i || gliding(sc, sc.objects[j].id, t)) continue;
+    const Vec2 q = objectPositionAt(sc, j, t);
+    if (distance(p, q) < (sc.objects[i].diameter + sc.objects[j].diameter) / 2) {
+      ini.fail(section, key,
+               "overlaps object." + std::to_string(sc.objects[j].id) + " at " + fmt(q) +
+                   " (t = " + fmt(t) + " s)");
+    }
+  }
+}
+
+}  // namespace parse
+
+namespace {
+
+using namespace parse;
+
+const std::vector<std::string> kSections = {"scenario", "world",   "robot", "laser",
+                                            "odometry", "objects", "moves", "people"};
 
 // ---- sections -----------------------------------------------------------------------------
 
@@ -247,18 +334,6 @@ void readMovesSection(const IniFile& ini, Scenario& sc) {
                    [](const MoveSpec& a, const MoveSpec& b) { return a.t_start < b.t_start; });
 }
 
-// The keys of `section` that start with one of `prefixes` (numberedKeys' "others" for the rest).
-std::vector<std::string> keysWithPrefix(const IniFile& ini, const std::string& section,
-                                        const std::vector<std::string>& prefixes) {
-  std::vector<std::string> out;
-  for (const auto& k : ini.keys(section)) {
-    for (const auto& p : prefixes) {
-      if (k.rfind(p + ".", 0) == 0) out.push_back(k);
-    }
-  }
-  return out;
-}
-
 PersonSpec* personById(Scenario& sc, int id) {
   for (auto& p : sc.people) {
     if (p.id == id) return &p;
@@ -331,43 +406,6 @@ void readPeopleSection(const IniFile& ini, Scenario& sc) {
 
 // ---- checks across sections ---------------------------------------------------------------
 
-/// The wall a disc overlaps, as "[world] wall.<n>" or "[world] map_image", or "" if none.
-std::string wallOverlapping(const Scenario& sc, Vec2 c, double r) {
-  for (std::size_t i = 0; i < sc.world.segments.size(); ++i) {
-    if (discOverlapsSegment(c, r, sc.world.segments[i])) return "[world] " + sc.wall_keys[i];
-  }
-  if (discOverlapsGrid(c, r, sc.world.grid)) return "[world] map_image";
-  return "";
-}
-
-std::string wallCrossed(const Scenario& sc, const Segment& leg) {
-  for (std::size_t i = 0; i < sc.world.segments.size(); ++i) {
-    if (segmentsIntersect(leg, sc.world.segments[i])) return "[world] " + sc.wall_keys[i];
-  }
-  if (segmentCrossesGrid(leg, sc.world.grid)) return "[world] map_image";
-  return "";
-}
-
-void checkRoute(const IniFile& ini, const Scenario& sc) {
-  const auto& w = sc.robot.waypoints;
-  for (std::size_t i = 0; i < w.size(); ++i) {
-    const std::string wall = wallOverlapping(sc, w[i], kWallClearance);
-    if (!wall.empty()) {
-      ini.fail("robot", "waypoints",
-               "waypoint " + std::to_string(i + 1) + " " + fmt(w[i]) + " is inside " + wall);
-    }
-  }
-  const std::size_t legs = w.size() < 2 ? 0 : (sc.robot.loop ? w.size() : w.size() - 1);
-  for (std::size_t i = 0; i < legs; ++i) {
-    const Segment leg{w[i], w[(i + 1) % w.size()]};
-    const std::string wall = wallCrossed(sc, leg);
-    if (!wall.empty()) {
-      ini.fail("robot", "waypoints",
-               "the leg " + fmt(leg.a) + " -> " + fmt(leg.b) + " crosses " + wall);
-    }
-  }
-}
-
 void checkPeople(const IniFile& ini, const Scenario& sc) {
   for (const auto& p : sc.people) {
     for (std::size_t i = 1; i < p.path.size(); ++i) {
@@ -376,36 +414,6 @@ void checkPeople(const IniFile& ini, const Scenario& sc) {
         ini.fail("people", "person." + std::to_string(p.id),
                  "the path " + fmt(p.path[i - 1]) + " -> " + fmt(p.path[i]) + " crosses " + wall);
       }
-    }
-  }
-}
-
-std::size_t objectIndex(const Scenario& sc, int id) {
-  for (std::size_t i = 0; i < sc.objects.size(); ++i) {
-    if (sc.objects[i].id == id) return i;
-  }
-  return sc.objects.size();
-}
-
-bool gliding(const Scenario& sc, int object_id, double t) {
-  return std::any_of(sc.moves.begin(), sc.moves.end(), [&](const MoveSpec& m) {
-    return m.object_id == object_id && t > m.t_start && t < m.tEnd();
-  });
-}
-
-/// Every object at rest at time t must be clear of every other object at rest. `key` is what
-/// the configuration at time t was made by (an object at t = 0, a move at its arrival).
-void checkObjectsApart(const IniFile& ini, const Scenario& sc, double t, int mover,
-                       const std::string& section, const std::string& key) {
-  const std::size_t i = objectIndex(sc, mover);
-  const Vec2 p = objectPositionAt(sc, i, t);
-  for (std::size_t j = 0; j < sc.objects.size(); ++j) {
-    if (j == i || gliding(sc, sc.objects[j].id, t)) continue;
-    const Vec2 q = objectPositionAt(sc, j, t);
-    if (distance(p, q) < (sc.objects[i].diameter + sc.objects[j].diameter) / 2) {
-      ini.fail(section, key,
-               "overlaps [objects] object." + std::to_string(sc.objects[j].id) + " at " + fmt(q) +
-                   " (t = " + fmt(t) + " s)");
     }
   }
 }
@@ -434,8 +442,28 @@ void checkObjects(const IniFile& ini, const Scenario& sc) {
   }
 }
 
+}  // namespace
+
+// The run a file asks for is bounded before it starts: at most a million scans and a thousand
+// million beams (a rawlog of some 5 GB), all sessions together.
+void parse::checkRunSize(const IniFile& ini, const Scenario& sc, double total_s,
+                         const std::string& section) {
+  const double scans = total_s * sc.robot.scan_rate_hz;
+  if (scans > kMaxScans || scans * sc.laser.beams > kMaxBeamSamples) {
+    ini.fail(section, "duration_s",
+             fmt(scans) + " scans of " + std::to_string(sc.laser.beams) +
+                 " beams (duration_s x scan_rate_hz x beams) exceed 1e6 scans or 1e9 beams");
+  }
+}
+
+namespace {
+
 void checkSections(const IniFile& ini) {
-  ini.requireKnownSections(kSections);
+  std::vector<std::string> known = kSections;
+  for (const auto& section : ini.sections()) {
+    if (section.rfind("session.", 0) == 0) known.push_back(section);  // numbers: readSessions
+  }
+  ini.requireKnownSections(known);
   for (const auto& s : {"scenario", "world", "robot", "laser"}) {
     if (!ini.hasSection(s)) ini.fail(s, "", "missing section (required)");
   }
@@ -455,17 +483,11 @@ Scenario parseScenario(const IniFile& ini, const std::string& base_dir) {
   readObjectsSection(ini, sc);
   readMovesSection(ini, sc);
   readPeopleSection(ini, sc);
-  checkRoute(ini, sc);
+  checkRoute(ini, sc, "robot");
   checkObjects(ini, sc);
   checkPeople(ini, sc);
-  // The run a file asks for is bounded before it starts: at most a million scans and a
-  // thousand million beams (a rawlog of some 5 GB).
-  const double scans = sc.duration_s * sc.robot.scan_rate_hz;
-  if (scans > kMaxScans || scans * sc.laser.beams > kMaxBeamSamples) {
-    ini.fail("scenario", "duration_s",
-             fmt(scans) + " scans of " + std::to_string(sc.laser.beams) +
-                 " beams (duration_s x scan_rate_hz x beams) exceed 1e6 scans or 1e9 beams");
-  }
+  checkRunSize(ini, sc, sc.duration_s, "scenario");
+  readSessions(ini, sc);
   return sc;
 }
 

@@ -171,7 +171,7 @@ mrpt::obs::CObservation2DRangeScan makeScan(const Scenario& sc, const ScanTruth&
 }
 
 void writeRawlogRecord(mrpt::serialization::CArchive& ar, const Scenario& sc, const ScanTruth& st) {
-  const auto stamp = mrpt::Clock::fromDouble(kEpochUnixSeconds + st.t);
+  const auto stamp = mrpt::Clock::fromDouble(kEpochUnixSeconds + sc.clock_offset_s + st.t);
   mrpt::obs::CObservationOdometry odo;
   odo.sensorLabel = "ODOMETRY";
   odo.timestamp = stamp;
@@ -254,8 +254,8 @@ std::size_t writeSimulation(const Scenario& sc, const std::string& out_dir) {
   ScanTruth st;
   while (sim.next(st)) {
     writeRawlogRecord(ar, sc, st);
-    gt << format("%.6f %.6f %.6f %.6f\n", kEpochUnixSeconds + st.t, st.pose.x, st.pose.y,
-                 st.pose.phi);
+    gt << format("%.6f %.6f %.6f %.6f\n", kEpochUnixSeconds + sc.clock_offset_s + st.t, st.pose.x,
+                 st.pose.y, st.pose.phi);
     writeObjectRows(objects, sc, st);
   }
   rawlog.close();
@@ -263,6 +263,25 @@ std::size_t writeSimulation(const Scenario& sc, const std::string& out_dir) {
   writeMoves(files.moves, sc);
   renderWorldImage(sc, files.world_png);
   return sim.scanCount();
+}
+
+std::vector<std::size_t> writeSessions(const Scenario& sc, const std::string& out_dir) {
+  std::vector<std::size_t> scans;
+  for (int n = 1; n <= static_cast<int>(sc.sessions.size()) + 1; ++n) {
+    scans.push_back(writeSimulation(sessionScenario(sc, n), out_dir));
+  }
+  if (sc.sessions.empty()) return scans;
+  const std::string path = (std::filesystem::path(out_dir) / sc.name).string() + ".changes.csv";
+  std::ofstream out = openText(path);
+  out << csv::kSessionChanges << "\n";
+  for (const SessionChange& c : sessionChanges(sc)) {
+    const bool has_from = c.kind != "object_new", has_to = c.kind != "object_gone";
+    out << format("%d,%s,%d,%.3f,", c.session, c.kind.c_str(), c.id, c.size)
+        << (has_from ? format("%.4f,%.4f,", c.from.x, c.from.y) : std::string(",,"))
+        << (has_to ? format("%.4f,%.4f", c.to.x, c.to.y) : std::string(",")) << "\n";
+  }
+  if (!out) throw std::runtime_error(path + ": write failed");
+  return scans;
 }
 
 }  // namespace dynamap::sim

@@ -9,6 +9,9 @@ namespace dynamap::csv {
 inline constexpr const char* kTruthRows = "scan_index,t,kind,id,x,y,diameter,hits";
 /// The truth's object moves: NAME.moves.csv.
 inline constexpr const char* kMoves = "move_id,object_id,t_start,t_end,from_x,from_y,to_x,to_y";
+/// The truth of a multi-session scenario: NAME.changes.csv, every change between sessions
+/// (id: the object's or the wall's number; a wall's from and to are its ends).
+inline constexpr const char* kSessionChanges = "session,kind,id,size_m,from_x,from_y,to_x,to_y";
 /// perturb --add-objects' NAME.own.csv: the unedited log's own object rows.
 inline constexpr const char* kOwn = "scan_index,cx,cy";
 /// A map result's tracks.csv: every object report of every scan.

@@ -57,10 +57,10 @@ struct PauseSpec {
 };
 
 struct PersonSpec {
-  int id = 0;  ///< the n of person.<n>
-  double diameter = 0;     ///< the whole body's width (legs: from one leg's outside to the other's)
+  int id = 0;           ///< the n of person.<n>
+  double diameter = 0;  ///< the whole body's width (legs: from one leg's outside to the other's)
   double speed_mps = 0;
-  std::vector<Vec2> path;  ///< walked to its end and back, for the whole run
+  std::vector<Vec2> path;   ///< walked to its end and back, for the whole run
   double leg_diameter = 0;  ///< > 0: seen as two legs of this diameter (legs.<n>), else one disc
   double stride = 0;        ///< [m] each leg swings this far fore and aft of the body (legs.<n>)
   std::vector<PauseSpec> pauses;  ///< by point (pause.<n>)
@@ -69,9 +69,38 @@ struct PersonSpec {
 /// Where a walker is at one moment and how its legs stand.
 struct PersonPose {
   Vec2 centre;
-  Vec2 heading{1, 0};   ///< unit vector of the leg being walked
-  double walked = 0;    ///< [m] distance walked since t = 0 (the gait's phase)
+  Vec2 heading{1, 0};     ///< unit vector of the leg being walked
+  double walked = 0;      ///< [m] distance walked since t = 0 (the gait's phase)
   bool standing = false;  ///< in a pause
+};
+
+/// What changes before session N (N >= 2) of a multi-session scenario, and the route it drives.
+/// Session 1 is the scenario itself; session N starts from the world and the objects as
+/// session N-1 left them, these changes applied.
+struct SessionSpec {
+  int number = 0;               ///< the N of [session.N]: 2, 3, ... without gaps
+  double duration_s = 0;        ///< the scenario's when not given
+  std::vector<Vec2> waypoints;  ///< this session's route (its own start)
+  bool loop = true;
+  struct Move {
+    int object_id = 0;
+    Vec2 to;
+  };
+  std::vector<Move> moved;           ///< move.<id> = x y, by id
+  std::vector<int> removed;          ///< remove = ids: taken out of the building
+  std::vector<ObjectSpec> added;     ///< object.<n> = diameter x y, n new to the scenario
+  std::vector<Segment> walls_added;  ///< wall.<n> = x1 y1 x2 y2, n new to the scenario
+  std::vector<int> wall_numbers_added;
+  std::vector<int> walls_removed;  ///< remove_walls = numbers of walls standing before it
+};
+
+/// One change between two sessions, as the simulator's truth states it.
+struct SessionChange {
+  int session = 0;   ///< the session it is seen in (2, 3, ...)
+  std::string kind;  ///< object_moved, object_new, object_gone, structure_added, structure_removed
+  int id = 0;        ///< the object's or the wall's number in the scenario
+  double size = 0;   ///< the object's diameter or the wall's length [m]
+  Vec2 from, to;     ///< moved: old and new place; new: to; gone: from; a wall: its two ends
 };
 
 struct Scenario {
@@ -80,20 +109,31 @@ struct Scenario {
   double duration_s = 0;
   std::uint64_t seed = 0;
   StaticWorld world;
-  std::vector<std::string> wall_keys;  ///< wall.<n> of each world.segments entry
+  std::vector<std::string> wall_keys;  ///< wall.<n> of each world.segments entry ("[session.N]
+                                       ///< wall.<n>" for one a session added)
   std::string map_image;               ///< resolved path, empty if none
   RobotSpec robot;
   LaserSpec laser;
   OdometrySpec odometry;
-  std::vector<ObjectSpec> objects;  ///< by id
-  std::vector<MoveSpec> moves;      ///< by t_start, then id
-  std::vector<PersonSpec> people;   ///< by id
+  std::vector<ObjectSpec> objects;    ///< by id
+  std::vector<MoveSpec> moves;        ///< by t_start, then id
+  std::vector<PersonSpec> people;     ///< by id
+  std::vector<SessionSpec> sessions;  ///< [session.N], N = 2, 3, ...; empty for one session
+  double clock_offset_s = 0;          ///< added to every timestamp written (a later session's day)
 };
 
 /// Reads and validates the scenario file at `path`.
 Scenario loadScenario(const std::string& path);
 /// Reads and validates `ini`; a map_image is looked up relative to `base_dir`.
 Scenario parseScenario(const IniFile& ini, const std::string& base_dir);
+
+/// Session n (1-based) as a scenario of its own, to simulate like any other: session 1 is the
+/// scenario without its sessions; session N >= 2 is named "<name>.s<N>", takes the world and the
+/// objects where session N-1 left them with its changes applied, has no moves, keeps the people,
+/// drives its own route, draws its noise from seed + N - 1 and is timed (N - 1) days later.
+Scenario sessionScenario(const Scenario& scenario, int n);
+/// Every change between consecutive sessions, by session, then kind as in SessionChange, then id.
+std::vector<SessionChange> sessionChanges(const Scenario& scenario);
 
 /// Where object `index` (into scenario.objects) is at time t, moves applied.
 Vec2 objectPositionAt(const Scenario& scenario, std::size_t index, double t);

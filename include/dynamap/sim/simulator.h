@@ -14,7 +14,8 @@
 
 namespace dynamap::sim {
 
-/// Simulated time 0 is 2024-01-01T00:00:00Z (UNIX seconds); rawlog timestamps and gt.txt use it.
+/// Simulated time 0 is 2024-01-01T00:00:00Z (UNIX seconds); rawlog timestamps and gt.txt use it
+/// (plus the scenario's clock_offset_s: a later session's day).
 constexpr double kEpochUnixSeconds = 1704067200.0;
 
 struct Pose2 {
@@ -89,6 +90,12 @@ SimulationFiles outputPaths(const Scenario& scenario, const std::string& out_dir
 /// Runs the whole scenario and writes every output file (creating out_dir). Same scenario, same
 /// bytes. Returns the number of scans written.
 std::size_t writeSimulation(const Scenario& scenario, const std::string& out_dir);
+
+/// Runs every session of a multi-session scenario (sessionScenario 1, 2, ...) into out_dir, each
+/// as writeSimulation does (files "<name>.*", "<name>.s2.*", ...), and writes the truth of the
+/// changes between them to "<name>.changes.csv" (csv::kSessionChanges). A scenario without
+/// sessions writes what writeSimulation writes and no changes file. Returns the scans of each.
+std::vector<std::size_t> writeSessions(const Scenario& scenario, const std::string& out_dir);
 
 /// The world at t = 0 as a PNG: walls, objects, people and their paths, the robot's route.
 void renderWorldImage(const Scenario& scenario, const std::string& path);
