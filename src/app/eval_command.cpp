@@ -36,6 +36,7 @@ namespace fs = std::filesystem;
 const char* const kEvalUsage =
     "usage: dynamap eval [--scenario FILE] --truth PREFIX --result DIR [--config FILE]\n"
     "       dynamap eval --summary DIR...\n"
+    "       dynamap eval --truth PREFIX --sessions DIR1 DIR2...\n"
     "       dynamap eval --truth PREFIX --trajectory FILE\n"
     "       dynamap eval --input LOG --trajectory FILE [--truth PREFIX]\n"
     "       dynamap eval --people-bag BAG --result DIR [--scan-topic T] [--person-topic T]\n\n"
@@ -48,6 +49,9 @@ const char* const kEvalUsage =
     "poses, --config). Prints a table and writes DIR/report.md and DIR/metrics.json.\n"
     "Without --scenario (real scans with objects added by `dynamap perturb --add-objects`) the\n"
     "walls are unknown: the object figures are scored, the cell figures know the objects only.\n"
+    "--sessions scores the change reports of a multi-session scenario's sessions, mapped in\n"
+    "order (DIR2 with --prior DIR1, ...), against PREFIX.changes.csv: each change found, under\n"
+    "a wrong id, misplaced or missed, and the false changes; written to DIRk/changes_score.json.\n"
     "--summary prints one table of several evaluated results beside the paper's Table 3.\n"
     "The poses the result was mapped at (DIR/poses.txt) and the log's raw odometry are scored\n"
     "against the truth's poses (PREFIX.gt.txt): absolute trajectory error, RMSE of position and\n"
@@ -324,6 +328,8 @@ static po::options_description evalOptions() {
       "config,c", po::value<std::string>(),
       "the mapper's configuration (default: the built-in defaults = config/default.ini), for\n"
       "mapping the result when it is not there yet and for the plain MRPT grid")(
+      "sessions", po::value<std::vector<std::string>>()->multitoken(),
+      "with --truth: score the change reports of these session results (in session order)")(
       "summary", po::value<std::vector<std::string>>()->multitoken(),
       "print one table of these evaluated result directories beside the paper's Table 3")(
       "trajectory", po::value<std::string>(),
@@ -349,6 +355,12 @@ int runEval(const Args& args) {
       throw UsageError("--summary takes only result directories");
     }
     return runSummary(vm["summary"].as<std::vector<std::string>>(), std::cout);
+  }
+  if (vm.count("sessions")) {
+    if (!vm.count("truth") || vm.count("scenario") || vm.count("result") || vm.count("trajectory"))
+      throw UsageError("--sessions takes --truth PREFIX and the session results only");
+    return scoreSessions(vm["sessions"].as<std::vector<std::string>>(),
+                         vm["truth"].as<std::string>(), std::cout);
   }
   if (vm.count("people-bag")) {
     if (!vm.count("result") || vm.count("scenario") || vm.count("truth") || vm.count("trajectory"))

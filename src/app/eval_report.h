@@ -45,5 +45,10 @@ void writeReport(std::ostream& o, const Evaluation& ev);
 /// --summary DIR...: one table of the evaluated results beside the paper's; an error names the
 /// metrics.json and the key it lacks. Returns the exit code.
 int runSummary(const std::vector<std::string>& dirs, std::ostream& o);
+/// --sessions: the change report of each session after the first (dirs in session order)
+/// against the truth's PREFIX.changes.csv; prints each score and writes it to the session's
+/// changes_score.json.
+int scoreSessions(const std::vector<std::string>& dirs, const std::string& truth_prefix,
+                  std::ostream& o);
 
 }  // namespace dynamap::app

@@ -143,6 +143,61 @@ std::set<int> readTableIds(const std::string& path) {
   return ids;
 }
 
+std::vector<TableRow> readTable(const std::string& path) {
+  CsvReader csv(path, csv::kObjects);
+  std::vector<TableRow> rows;
+  for (std::vector<std::string> f; csv.next(f);) {
+    rows.push_back({static_cast<int>(csv.integer(f[0], "id")), csv.number(f[2], "size_m"),
+                    csv.number(f[3], "cx"), csv.number(f[4], "cy")});
+  }
+  return rows;
+}
+
+namespace {
+
+const std::set<std::string> kChangeKinds = {"object_moved", "object_new", "object_gone",
+                                            "structure_added", "structure_removed"};
+
+/// Two fields x, y: both empty (unknown) or both numbers.
+MaybePoint maybePoint(const CsvReader& csv, const std::string& x, const std::string& y,
+                      const char* name) {
+  if (x.empty() && y.empty()) return {};
+  return {true, csv.number(x, name), csv.number(y, name)};
+}
+
+/// The fields kind,id,size_m,from_x,from_y,to_x,to_y starting at f[first].
+ScoredRow changeFields(const CsvReader& csv, const std::vector<std::string>& f, std::size_t first) {
+  ScoredRow c;
+  c.kind = f[first];
+  if (!kChangeKinds.count(c.kind)) csv.fail("kind: unknown change '" + c.kind + "'");
+  c.id = static_cast<int>(csv.integer(f[first + 1], "id"));
+  c.size = csv.number(f[first + 2], "size_m");
+  c.from = maybePoint(csv, f[first + 3], f[first + 4], "from");
+  c.to = maybePoint(csv, f[first + 5], f[first + 6], "to");
+  return c;
+}
+
+}  // namespace
+
+std::vector<ScoredRow> readChangeTruth(const std::string& path) {
+  CsvReader csv(path, csv::kSessionChanges);
+  std::vector<ScoredRow> rows;
+  for (std::vector<std::string> f; csv.next(f);) {
+    const long session = csv.integer(f[0], "session");
+    if (session < 2) csv.fail("session: changes are seen from session 2 on");
+    rows.push_back(changeFields(csv, f, 1));
+    rows.back().session = static_cast<int>(session);
+  }
+  return rows;
+}
+
+std::vector<ScoredRow> readChangeReport(const std::string& path) {
+  CsvReader csv(path, csv::kChanges);
+  std::vector<ScoredRow> rows;
+  for (std::vector<std::string> f; csv.next(f);) rows.push_back(changeFields(csv, f, 0));
+  return rows;
+}
+
 void keepTableRows(const std::string& objects_csv, std::vector<TrackRow>& rows,
                    std::vector<std::string>& notes) {
   if (!fs::exists(objects_csv)) return;

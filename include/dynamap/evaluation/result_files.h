@@ -10,6 +10,7 @@
 
 #include "dynamap/base/pose_track.h"
 #include "dynamap/evaluation/evaluation.h"
+#include "dynamap/evaluation/session_scores.h"
 
 namespace dynamap {
 
@@ -26,6 +27,12 @@ std::set<int> readTableIds(const std::string& path);
 /// missing.
 void keepTableRows(const std::string& objects_csv, std::vector<TrackRow>& rows,
                    std::vector<std::string>& notes);
+/// A result's final object table (objects.csv): id, size and place of every row.
+std::vector<TableRow> readTable(const std::string& path);
+/// The simulator's NAME.changes.csv: every change between sessions.
+std::vector<ScoredRow> readChangeTruth(const std::string& path);
+/// A result's changes.csv (session 0 in every row).
+std::vector<ScoredRow> readChangeReport(const std::string& path);
 /// perturb --add-objects' NAME.own.csv: the unedited log's object rows.
 std::vector<OwnRow> readOwn(const std::string& path);
 /// A result's people.csv.
