@@ -173,6 +173,7 @@ void ObjectTracker::carryOver(std::vector<TrackedObject> rows, double t) {
       o.vanished_t = t;
     }
   }
+  carried_ = rows;
   objects_ = std::move(rows);
 }
 

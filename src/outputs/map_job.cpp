@@ -185,6 +185,7 @@ MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
     afterScan(job, mapper, w, rec, result);
     if (job.progress) job.progress(source->fractionRead(), mapper.counts().scans_used);
   });
+  mapper.finishSession();
   w.tracks.finish();
   w.people.finish();
   w.poses.finish();

@@ -15,6 +15,9 @@ namespace dynamap {
 namespace {
 
 constexpr const char* kInput = "input";
+// P(free) an added structure's cells get in the state the next session starts from: as sure as
+// a wall seen many times.
+constexpr float kAddedStructureFree = 0.05f;
 
 /// A key of [input], declared once: its meaning for the key table, how it is read (every error
 /// through IniFile::fail, naming the key), and when and how config.ini writes it.
@@ -209,6 +212,10 @@ void Mapper::continueFrom(SessionState prior) {
   changes_ = std::make_unique<SessionChanges>(std::move(prior), config_.changes, config_.objects);
 }
 
+void Mapper::finishSession() {
+  if (changes_ && !carried_) tracker_.settleCarried(last_scan_t_, last_scan_index_);
+}
+
 SessionState Mapper::sessionState() const {
   SessionState s;
   s.sessions = sessions_;
@@ -218,6 +225,16 @@ SessionState Mapper::sessionState() const {
   s.size_x = map_.getSizeX();
   s.size_y = map_.getSizeY();
   s.static_cells.assign(map_.getRawMap().begin(), map_.getRawMap().end());
+  // Structure this session added and kept (in D, as all that appears where S was free) is the
+  // building's now: the next session's S holds it, and can see it removed.
+  if (changes_ && !carried_) {
+    const auto occupied = DynamicGridMap::p2l(kAddedStructureFree);
+    for (const ChangeRow& r : changes_->report(map_, tracker_)) {
+      if (r.kind != "structure_added") continue;
+      for (const auto& [x, y] : r.region)
+        s.static_cells[static_cast<std::size_t>(y) * s.size_x + x] = occupied;
+    }
+  }
   // Before the first scan inserted, the table is still the prior's, waiting: it is kept.
   for (const TrackedObject& o : carried_ ? *carried_ : tracker_.objects()) {
     s.objects.push_back({o.id, toString(o.state), o.shape.cx, o.shape.cy, o.shape.size, o.n_moves,
@@ -342,6 +359,7 @@ ScanResult Mapper::process(const ScanRecord& rec) {
   path_.add(result.pose.x(), result.pose.y());  // 7. the path the pictures draw
   last_scan_pose_ = result.pose;
   last_scan_t_ = rec.t;
+  last_scan_index_ = rec.index;
   return result;
 }
 

@@ -60,6 +60,18 @@ class ObjectTracker {
   /// order.
   void carryOver(std::vector<TrackedObject> rows, double t);
 
+  /// At a continued session's end: the carried ids go to the objects present now that fit them
+  /// best, all at once. During the session each id went to the first detection of its size, often
+  /// a partial view (smaller) or an object of a size near it; now every present object's size has
+  /// settled. One assignment (solveAssignment) over the present objects and the carried rows
+  /// the prior listed: a pair costs its size difference over size_tolerance plus the distance
+  /// from the carried place over match_distance_scale (sizes further apart than size_tolerance
+  /// never pair); keeping an object's own identity costs nothing more than that, and a present
+  /// object may stay new at a cost of 1 (one size_tolerance). An object whose id changes gets a
+  /// Relabeled event (from_id: the id it had); a new object's old row becomes Relabeled, a
+  /// carried id no object keeps is absent at its carried place again. Nothing without carryOver.
+  void settleCarried(double t, std::size_t scan_index);
+
   /// Withdraws object `id`, which is absent (gone from its place) and was a person standing, a
   /// layer above found: state Withdrawn, a Withdrawn event; no identity ever goes to it again.
   /// False (nothing done) when `id` is no object or not absent.
@@ -159,6 +171,8 @@ class ObjectTracker {
   /// one seen gone since say, or a new one).
   void revive(Track& place, int took, const ScanView& view, double t, std::size_t scan_index);
   int newObject(double t);
+  /// settleCarried's assignment: for each present object (by id), the id it should hold.
+  std::map<int, int> carriedAssignment() const;
   void emit(double t, std::size_t scan_index, const TrackedObject& o, ObjectEvent e);
   TrackedObject& object(int id) { return objects_[static_cast<std::size_t>(id - 1)]; }
   /// The key of the track confirmed as object `id`, or 0.
@@ -183,6 +197,7 @@ class ObjectTracker {
   std::map<int, std::pair<double, double>> outline_now_;
   const DynamicGridMap* map_ = nullptr;  // the map of the update under way
   std::vector<TrackedObject> objects_;
+  std::vector<TrackedObject> carried_;  // the rows carryOver took, as they came
   std::vector<EventRecord> events_;
   std::size_t events_before_update_ = 0;
   std::vector<KeepOut> keep_out_;

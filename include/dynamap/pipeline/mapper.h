@@ -94,6 +94,9 @@ class Mapper {
   /// first scan on) and the run reports what changed (changes()). Throws std::invalid_argument
   /// when the prior's grid does not fit this run's [dynamic_map] (its resolution, its size).
   void continueFrom(SessionState prior);
+  /// After the last scan of a continued session: the carried ids settle on the objects present
+  /// (ObjectTracker::settleCarried). Nothing when not continuing one.
+  void finishSession();
   /// The change report's state when continuing a prior session; null otherwise.
   const SessionChanges* changes() const { return changes_.get(); }
   /// What this run leaves for the next session: S, the object table, the last pose and time.
@@ -148,6 +151,7 @@ class Mapper {
   int sessions_ = 1;
   mrpt::poses::CPose2D last_scan_pose_;  // of the last scan inserted
   double last_scan_t_ = 0;
+  std::size_t last_scan_index_ = 0;
   std::unique_ptr<ScanMatcher> matcher_;  // null unless poses is ScanMatching
   ScanMatchCounts match_counts_;
   bool have_pose_ = false;

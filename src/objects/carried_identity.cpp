@@ -1,0 +1,98 @@
+// ObjectTracker::settleCarried: a continued session's carried ids given, at its end, to the
+// present objects that fit them best (object_tracker.h).
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <limits>
+
+#include "dynamap/base/hungarian.h"
+#include "dynamap/objects/object_tracker.h"
+
+namespace dynamap {
+namespace {
+
+constexpr double kForbidden = std::numeric_limits<double>::infinity();
+// Staying new costs one size tolerance: a carried id goes to an object only when its size and
+// place fit better than that.
+constexpr double kStayNew = 1.0;
+
+}  // namespace
+
+std::map<int, int> ObjectTracker::carriedAssignment() const {
+  std::vector<int> present, carried;
+  for (const TrackedObject& o : objects_) {
+    if (o.state == ObjectState::Present) present.push_back(o.id);
+  }
+  for (const TrackedObject& c : carried_) {
+    if (listedInTable(c.state)) carried.push_back(c.id);
+  }
+  const auto n = static_cast<Eigen::Index>(present.size());
+  const auto m = static_cast<Eigen::Index>(carried.size());
+  Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(n, m + n, kForbidden);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const ShapeEstimate& s = objects_[static_cast<std::size_t>(present[i] - 1)].shape;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const ShapeEstimate& c = carried_[static_cast<std::size_t>(carried[j] - 1)].shape;
+      const double ds = std::abs(s.size - c.size);
+      if (ds > options_.size_tolerance) continue;
+      cost(i, j) = ds / options_.size_tolerance +
+                   std::hypot(s.cx - c.cx, s.cy - c.cy) / options_.match_distance_scale;
+    }
+    cost(i, m + i) = kStayNew;
+  }
+  const std::vector<int> pick = solveAssignment(cost, kForbidden);
+  std::map<int, int> out;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const int j = pick[static_cast<std::size_t>(i)];
+    const bool is_carried = present[i] <= static_cast<int>(carried_.size());
+    // Staying new: a new object keeps its id, a carried id not kept takes a new one (0).
+    out[present[i]] = j >= 0 && j < m ? carried[j] : (is_carried ? 0 : present[i]);
+  }
+  return out;
+}
+
+void ObjectTracker::settleCarried(double t, std::size_t scan_index) {
+  if (carried_.empty()) return;
+  const std::map<int, int> target = carriedAssignment();
+  std::map<int, TrackedObject> moving;  // id now -> its row, for those whose id changes
+  for (const auto& [now, to] : target) {
+    if (now != to) moving[now] = object(now);
+  }
+  // First every row left behind: a carried one as it came (absent), a new one relabeled.
+  for (const auto& kv : moving) {
+    TrackedObject& o = object(kv.first);
+    if (kv.first <= static_cast<int>(carried_.size())) {
+      o = carried_[static_cast<std::size_t>(kv.first - 1)];
+    } else {
+      o.state = ObjectState::Relabeled;
+    }
+  }
+  std::map<int, int> renamed;  // id now -> id it holds from here on
+  for (const auto& [now, row] : moving) {
+    const bool fresh = target.at(now) == 0;
+    const int to = fresh ? newObject(t) : target.at(now);
+    TrackedObject& o = object(to);
+    const bool moved = !fresh && std::hypot(row.shape.cx - o.shape.cx, row.shape.cy - o.shape.cy) >
+                                     options_.move_distance;
+    // A fresh row was first seen when this session first found what it holds.
+    if (fresh) o.first_seen_t = row.history.size() > 1 ? row.history[1].t : row.first_seen_t;
+    o.shape = row.shape;
+    o.state = ObjectState::Present;
+    o.last_seen_t = row.last_seen_t;
+    if (moved) ++o.n_moves;
+    o.history.push_back({row.last_seen_t, row.shape.cx, row.shape.cy});
+    emit(t, scan_index, o, ObjectEvent::Relabeled);
+    events_.back().from_id = now;
+    renamed[now] = to;
+  }
+  for (auto& kv : tracks_) {
+    Track& tr = kv.second;
+    if (Confirmed* c = tr.confirmed(); c && renamed.count(c->id)) c->id = renamed[c->id];
+    if (Stale* st = tr.stale(); st && renamed.count(st->object_id)) {
+      st->object_id = renamed[st->object_id];
+    }
+  }
+}
+
+}  // namespace dynamap
