@@ -91,8 +91,8 @@ std::int8_t SessionChanges::priorCell(double x, double y) const {
   const double fx = std::floor((x - prior_.x_min) / prior_.resolution);
   const double fy = std::floor((y - prior_.y_min) / prior_.resolution);
   if (fx < 0 || fy < 0 || fx >= prior_.size_x || fy >= prior_.size_y) return 0;
-  return prior_.static_cells[static_cast<std::size_t>(fx) +
-                             static_cast<std::size_t>(fy) * prior_.size_x];
+  return prior_
+      .static_cells[static_cast<std::size_t>(fx) + static_cast<std::size_t>(fy) * prior_.size_x];
 }
 
 bool SessionChanges::seenEmpty(const Place& p) const {
@@ -112,8 +112,8 @@ void SessionChanges::carriedChanges(const ObjectTracker& tracker,
       continue;
     // An object the prior held present moved only if its place was seen empty: else the id went
     // to something else of its size, and the object may well stand where it stood.
-    const auto place = std::find_if(places_.begin(), places_.end(),
-                                    [&](const Place& p) { return p.id == o.id; });
+    const auto place =
+        std::find_if(places_.begin(), places_.end(), [&](const Place& p) { return p.id == o.id; });
     if (place != places_.end() && !seenEmpty(*place)) continue;
     ChangeRow r = changeRow("object_moved", o.id, o.shape.size);
     r.from_x = before.cx;
@@ -139,7 +139,8 @@ void SessionChanges::objectChanges(const ObjectTracker& tracker, std::vector<Cha
   std::vector<const TrackedObject*> fresh;  // new to the table, present at the end
   for (std::size_t k = prior_.objects.size(); k < tracker.objects().size(); ++k) {
     const TrackedObject& o = tracker.objects()[k];
-    if (o.state == ObjectState::Present) fresh.push_back(&o);  // else: came and went
+    // Not present: it came and went. Wider than an object: structure, reported as such.
+    if (o.state == ObjectState::Present && o.shape.size <= objects_.max_size) fresh.push_back(&o);
   }
   // Which place each came from: identity by size, then distance, as one assignment.
   constexpr double kForbidden = 1e9;
@@ -265,7 +266,8 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
     return DynamicGridMap::isOccupiedValue(prior(x, y));
   };
   const auto now_occupied = [&](int x, int y) { return map.isStaticOccupied(x, y); };
-  std::vector<std::uint8_t> added(static_cast<std::size_t>(sx) * sy, 0), removed(added.size(), 0);
+  std::vector<std::uint8_t> added(static_cast<std::size_t>(sx) * sy, 0), removed(added.size(), 0),
+      sure(added.size(), 0);
   for (int y = 0; y < sy; ++y) {
     for (int x = 0; x < sx; ++x) {
       const std::int8_t p = prior(x, y);
@@ -273,21 +275,28 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
       if (p >= map.freeThresholdCell() && map.isObjectIndex(i) && !near(x, y, m, prior_occupied)) {
         const auto e = entered_.find(cellKey(x + ox, y + oy));
         added[i] = e != entered_.end() && e->second <= last_t_ - options_.structure_stay_s;
-      } else if (DynamicGridMap::staticOccupancyOfValue(p) > options_.removed_occupancy &&
-                 map.isStaticFree(x, y)) {
-        removed[i] = !near(x, y, m, now_occupied);
+      } else if (DynamicGridMap::isOccupiedValue(p) && map.isStaticFree(x, y) &&
+                 !near(x, y, m, now_occupied)) {
+        // Sure cells make a removal; the less sure around them (an object's edges, seen by
+        // fewer beams) belong to it, so that a place is as wide as the object that left it.
+        removed[i] = 1;
+        sure[i] = DynamicGridMap::staticOccupancyOfValue(p) > options_.removed_occupancy;
       }
     }
   }
   std::vector<ChangeRow> found;
   for (Region& r : regionsOf(added, sx, sy)) {
-    for (const auto& [x, y] : r.cells) r.first_t = std::min(r.first_t, entered_.at(cellKey(x + ox, y + oy)));
+    for (const auto& [x, y] : r.cells)
+      r.first_t = std::min(r.first_t, entered_.at(cellKey(x + ox, y + oy)));
     ChangeRow row = rowOf(r, "structure_added", map);
     if (row.size > objects_.max_size && static_cast<int>(row.cells) >= options_.structure_min_cells)
       found.push_back(row);
   }
   for (const Region& r : regionsOf(removed, sx, sy)) {
-    if (static_cast<int>(r.cells.size()) < options_.structure_min_cells) continue;
+    const auto sure_cells = std::count_if(r.cells.begin(), r.cells.end(), [&](const auto& c) {
+      return sure[static_cast<std::size_t>(c.second) * sx + c.first] != 0;
+    });
+    if (sure_cells < options_.structure_min_cells) continue;
     ChangeRow row = rowOf(r, "structure_removed", map);
     if (row.size <= objects_.max_size) {  // an object's size: a place an object left
       // Its place and size as the tracker fits them: the removed cells are the arc the
