@@ -112,7 +112,10 @@ void matchStructure(SessionScore& score, const std::vector<ScoredRow>& report,
   // Further regions along a found wall are parts of it (a wall cut in two by a doorway's view).
   for (std::size_t j = 0; j < report.size(); ++j) {
     for (const ScoredChange& c : score.changes) {
-      if (used[j] || c.verdict != ChangeVerdict::Found || report[j].kind != c.truth.kind) continue;
+      if (used[j] || !isStructure(c.truth.kind) || c.verdict != ChangeVerdict::Found ||
+          report[j].kind != c.truth.kind) {
+        continue;
+      }
       if (segmentDistance(regionCentre(report[j]), c.truth) <= radius) used[j] = true;
     }
   }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -99,8 +100,8 @@ std::vector<Change> readChanges(const std::string& path) {
     std::stringstream s(line);
     std::string f[9];
     for (auto& x : f) std::getline(s, x, ',');
-    rows.push_back({f[0], std::stoi(f[1]), field(f[2]), field(f[3]), field(f[4]), field(f[5]),
-                    field(f[6])});
+    rows.push_back(
+        {f[0], std::stoi(f[1]), field(f[2]), field(f[3]), field(f[4]), field(f[5]), field(f[6])});
   }
   return rows;
 }
@@ -125,8 +126,8 @@ class Sessions : public ::testing::Test {
                 0);
     }
     std::string out;
-    ASSERT_EQ(test::run(kExe + " map --input " + dir_ + "/sim/s1.rawlog --poses ground_truth --out " +
-                            dir_ + "/m1",
+    ASSERT_EQ(test::run(kExe + " map --input " + dir_ +
+                            "/sim/s1.rawlog --poses ground_truth --out " + dir_ + "/m1",
                         &out),
               0)
         << out;
@@ -146,10 +147,11 @@ const Change* find(const std::vector<Change>& rows, const std::string& kind, dou
 
 TEST_F(Sessions, TheSecondSessionReportsEveryChangeAndNoOther) {
   std::string out;
-  ASSERT_EQ(test::run(kExe + " map --input " + dir_ + "/sim/s2.rawlog --poses ground_truth --prior " +
-                          dir_ + "/m1 --out " + dir_ + "/m2",
-                      &out),
-            0)
+  ASSERT_EQ(
+      test::run(kExe + " map --input " + dir_ + "/sim/s2.rawlog --poses ground_truth --prior " +
+                    dir_ + "/m1 --out " + dir_ + "/m2",
+                &out),
+      0)
       << out;
   const std::vector<Change> rows = readChanges(dir_ + "/m2/changes.csv");
   EXPECT_EQ(rows.size(), 7u);
@@ -194,10 +196,11 @@ TEST_F(Sessions, TheSecondSessionReportsEveryChangeAndNoOther) {
 
 TEST_F(Sessions, TheFirstSessionAgainstItselfChangesNothing) {
   std::string out;
-  ASSERT_EQ(test::run(kExe + " map --input " + dir_ + "/sim/s1.rawlog --poses ground_truth --prior " +
-                          dir_ + "/m1 --out " + dir_ + "/again",
-                      &out),
-            0)
+  ASSERT_EQ(
+      test::run(kExe + " map --input " + dir_ + "/sim/s1.rawlog --poses ground_truth --prior " +
+                    dir_ + "/m1 --out " + dir_ + "/again",
+                &out),
+      0)
       << out;
   const std::vector<Change> rows = readChanges(dir_ + "/again/changes.csv");
   for (const Change& c : rows) ADD_FAILURE() << c.kind << " " << c.id << " at " << c.to_x;
@@ -219,31 +222,31 @@ TEST_F(Sessions, AnInitialPoseMovesTheWholeLogRigidly) {
   const std::string second =
       kExe + " map --input " + dir_ + "/sim/s2.rawlog --poses ground_truth --prior " + dir_ + "/m1";
   ASSERT_EQ(test::run(second + " --out " + dir_ + "/m2i", &out), 0) << out;
-  ASSERT_EQ(test::run(second + " --initial-pose \"" + pose.str() + "\" --out " + dir_ + "/m3", &out),
-            0)
+  ASSERT_EQ(
+      test::run(second + " --initial-pose \"" + pose.str() + "\" --out " + dir_ + "/m3", &out), 0)
       << out;
   EXPECT_EQ(test::readFile(dir_ + "/m3/changes.csv"), test::readFile(dir_ + "/m2i/changes.csv"));
   // Half a metre off: the walls no longer agree, and the report says so.
   pose.str("");
   pose << x + 0.5 << " " << y << " " << phi;
-  ASSERT_EQ(test::run(kExe + " map --input " + dir_ + "/sim/s2.rawlog --poses ground_truth --prior " +
-                          dir_ + "/m1 --initial-pose \"" + pose.str() + "\" --out " + dir_ + "/m4"),
-            0);
+  ASSERT_EQ(
+      test::run(kExe + " map --input " + dir_ + "/sim/s2.rawlog --poses ground_truth --prior " +
+                dir_ + "/m1 --initial-pose \"" + pose.str() + "\" --out " + dir_ + "/m4"),
+      0);
   EXPECT_GT(readChanges(dir_ + "/m4/changes.csv").size(), 7u);
 }
 
 TEST_F(Sessions, ErrorsNameTheOptionOrTheFile) {
   std::string out;
   const std::string log = " --input " + dir_ + "/sim/s2.rawlog --poses ground_truth";
-  EXPECT_EQ(test::run(kExe + " map" + log + " --initial-pose \"0 0 0\" --out " + dir_ + "/e1", &out),
-            2);
+  EXPECT_EQ(
+      test::run(kExe + " map" + log + " --initial-pose \"0 0 0\" --out " + dir_ + "/e1", &out), 2);
   EXPECT_NE(out.find("--initial-pose: only with --prior"), std::string::npos) << out;
-  EXPECT_NE(test::run(kExe + " map" + log + " --prior " + dir_ + "/sim --out " + dir_ + "/e2", &out),
-            0);
-  EXPECT_NE(out.find(dir_ + "/sim/session.json: no session state there"), std::string::npos)
-      << out;
-  EXPECT_NE(test::run(kExe + " map" + log + " --prior " + dir_ + "/m1 --initial-pose \"1 2\" --out " +
-                          dir_ + "/e3",
+  EXPECT_NE(
+      test::run(kExe + " map" + log + " --prior " + dir_ + "/sim --out " + dir_ + "/e2", &out), 0);
+  EXPECT_NE(out.find(dir_ + "/sim/session.json: no session state there"), std::string::npos) << out;
+  EXPECT_NE(test::run(kExe + " map" + log + " --prior " + dir_ +
+                          "/m1 --initial-pose \"1 2\" --out " + dir_ + "/e3",
                       &out),
             0);
   EXPECT_NE(out.find("--initial-pose: "), std::string::npos) << out;
@@ -292,7 +295,8 @@ TEST_F(Sessions, AStartTheMapCannotTellApartIsAnErrorWithTheCandidates) {
   std::ofstream(d + "/square.ini") << "[scenario]\nname = square\nduration_s = 20\nseed = 3\n"
                                    << "[world]\nwall.1 = -4 -4  4 -4\nwall.2 = 4 -4  4 4\n"
                                    << "wall.3 = 4 4  -4 4\nwall.4 = -4 4  -4 -4\n"
-                                   << "[robot]\nwaypoints = 0 0  1 0\nloop = true\n" << kLaser;
+                                   << "[robot]\nwaypoints = 0 0  1 0\nloop = true\n"
+                                   << kLaser;
   ASSERT_EQ(test::run(kExe + " simulate --scenario " + d + "/square.ini --out " + d), 0);
   ASSERT_EQ(test::run(kExe + " map --input " + d + "/square.rawlog --poses ground_truth --out " +
                       d + "/first"),
@@ -307,6 +311,39 @@ TEST_F(Sessions, AStartTheMapCannotTellApartIsAnErrorWithTheCandidates) {
             std::string::npos)
       << out;
   EXPECT_NE(out.find("give --initial-pose"), std::string::npos);
+}
+
+// The bundled multi-session world: three sessions of a simulated office floor, each started
+// elsewhere, eleven changes before each of sessions 2 and 3 (objects the table holds and objects
+// of S moved, new and gone objects, a wall added, one removed, then the added one removed).
+// Mapped in order and scored by eval --sessions: every change found under the right id.
+TEST(SessionWorlds, TheOfficesThreeSessionsReportEveryChangeAndNoOther) {
+  const std::string d = test::tempDir("sessions_offices");
+  ASSERT_EQ(test::run(kExe + " simulate --scenario " + std::string(DYNAMAP_SOURCE_DIR) +
+                      "/config/sessions/offices.ini --out " + d + "/sim"),
+            0);
+  const std::string logs[] = {"offices", "offices.s2", "offices.s3"};
+  for (int k = 0; k < 3; ++k) {
+    std::string cmd = kExe + " map --input " + d + "/sim/" + logs[k] +
+                      ".rawlog --poses ground_truth --out " + d + "/m" + std::to_string(k + 1);
+    if (k > 0) cmd += " --prior " + d + "/m" + std::to_string(k);
+    std::string out;
+    ASSERT_EQ(test::run(cmd, &out), 0) << out;
+  }
+  std::string out;
+  ASSERT_EQ(test::run(kExe + " eval --truth " + d + "/sim/offices --sessions " + d + "/m1 " + d +
+                          "/m2 " + d + "/m3",
+                      &out),
+            0);
+  EXPECT_NE(out.find("session 2: 11 changes, 11 found, 0 under a wrong id, 0 misplaced, 0 missed; "
+                     "0 false changes"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("session 3: 11 changes, 11 found, 0 under a wrong id, 0 misplaced, 0 missed; "
+                     "0 false changes"),
+            std::string::npos)
+      << out;
+  EXPECT_TRUE(std::filesystem::exists(d + "/m3/changes_score.json"));
 }
 
 }  // namespace
