@@ -95,4 +95,18 @@ void ObjectTracker::settleCarried(double t, std::size_t scan_index) {
   }
 }
 
+bool ObjectTracker::retire(int id, double t, std::size_t scan_index) {
+  if (id < 1 || id > static_cast<int>(objects_.size()) || !listedInTable(object(id).state)) {
+    return false;
+  }
+  TrackedObject& o = object(id);
+  if (id <= static_cast<int>(carried_.size())) {
+    o = carried_[static_cast<std::size_t>(id - 1)];
+    return true;
+  }
+  o.state = ObjectState::Retracted;
+  emit(t, scan_index, o, ObjectEvent::Retracted);
+  return true;
+}
+
 }  // namespace dynamap

@@ -1,5 +1,6 @@
 #include "dynamap/pipeline/mapper.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -213,7 +214,20 @@ void Mapper::continueFrom(SessionState prior) {
 }
 
 void Mapper::finishSession() {
-  if (changes_ && !carried_) tracker_.settleCarried(last_scan_t_, last_scan_index_);
+  if (!changes_ || carried_) return;
+  // What the tracker took for objects on a wall that appeared are parts of it.
+  for (const ChangeRow& r : changes_->report(map_, tracker_)) {
+    if (r.kind != "structure_added") continue;
+    for (const TrackedObject& o : tracker_.objects()) {
+      const double reach = 0.5 * o.shape.size + map_.getResolution();
+      const bool on = std::any_of(r.region.begin(), r.region.end(), [&](const auto& c) {
+        return std::hypot(map_.idx2x(c.first) - o.shape.cx, map_.idx2y(c.second) - o.shape.cy) <=
+               reach;
+      });
+      if (on) tracker_.retire(o.id, last_scan_t_, last_scan_index_);
+    }
+  }
+  tracker_.settleCarried(last_scan_t_, last_scan_index_);
 }
 
 SessionState Mapper::sessionState() const {

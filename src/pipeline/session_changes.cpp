@@ -95,6 +95,13 @@ std::int8_t SessionChanges::priorCell(double x, double y) const {
       .static_cells[static_cast<std::size_t>(fx) + static_cast<std::size_t>(fy) * prior_.size_x];
 }
 
+bool SessionChanges::onTablePlace(double x, double y) const {
+  return std::any_of(prior_.objects.begin(), prior_.objects.end(), [&](const SessionObject& o) {
+    const bool listed = o.state == "present" || o.state == "absent";
+    return listed && std::hypot(o.cx - x, o.cy - y) <= 0.5 * o.size + prior_.resolution;
+  });
+}
+
 bool SessionChanges::seenEmpty(const Place& p) const {
   return p.seen_free >= options_.gone_views && p.seen_free > p.seen_occupied;
 }
@@ -142,20 +149,25 @@ void SessionChanges::objectChanges(const ObjectTracker& tracker, std::vector<Cha
     // Not present: it came and went. Wider than an object: structure, reported as such.
     if (o.state == ObjectState::Present && o.shape.size <= objects_.max_size) fresh.push_back(&o);
   }
-  // Which place each came from: identity by size, then distance, as one assignment.
+  // Which place each came from: identity by size, then distance, as one assignment. A place's
+  // size is fitted to the S cells the prior held surely occupied, the middle of the arc it saw
+  // (its ends, seen by fewer beams, fall short of removed_occupancy); an object's to all its D
+  // cells. So an object may measure a cell more above its place's size than below it.
   constexpr double kForbidden = 1e9;
+  const double below = objects_.size_tolerance, above = objects_.size_tolerance + prior_.resolution;
   Eigen::MatrixXd cost(static_cast<Eigen::Index>(fresh.size()),
                        static_cast<Eigen::Index>(vacated.size()));
   for (std::size_t i = 0; i < fresh.size(); ++i) {
     for (std::size_t v = 0; v < vacated.size(); ++v) {
       const ShapeEstimate& s = fresh[i]->shape;
-      const double ds = std::abs(vacated[v].size - s.size);
+      const double ds = s.size - vacated[v].size;
       const double d = std::hypot(vacated[v].from_x - s.cx, vacated[v].from_y - s.cy);
       // Across a building a size says little: farther than far_match_distance, no move.
+      const bool fits = ds >= -below && ds <= above && d <= objects_.far_match_distance;
       cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(v)) =
-          ds > objects_.size_tolerance || d > objects_.far_match_distance
-              ? kForbidden
-              : ds / objects_.size_tolerance + d / objects_.match_distance_scale;
+          fits ? std::abs(ds - 0.5 * (above - below)) / (0.5 * (above + below)) +
+                     d / objects_.match_distance_scale
+               : kForbidden;
     }
   }
   const std::vector<int> from = solveAssignment(cost, kForbidden);
@@ -266,8 +278,7 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
     return DynamicGridMap::isOccupiedValue(prior(x, y));
   };
   const auto now_occupied = [&](int x, int y) { return map.isStaticOccupied(x, y); };
-  std::vector<std::uint8_t> added(static_cast<std::size_t>(sx) * sy, 0), removed(added.size(), 0),
-      sure(added.size(), 0);
+  std::vector<std::uint8_t> added(static_cast<std::size_t>(sx) * sy, 0), removed(added.size(), 0);
   for (int y = 0; y < sy; ++y) {
     for (int x = 0; x < sx; ++x) {
       const std::int8_t p = prior(x, y);
@@ -275,12 +286,9 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
       if (p >= map.freeThresholdCell() && map.isObjectIndex(i) && !near(x, y, m, prior_occupied)) {
         const auto e = entered_.find(cellKey(x + ox, y + oy));
         added[i] = e != entered_.end() && e->second <= last_t_ - options_.structure_stay_s;
-      } else if (DynamicGridMap::isOccupiedValue(p) && map.isStaticFree(x, y) &&
-                 !near(x, y, m, now_occupied)) {
-        // Sure cells make a removal; the less sure around them (an object's edges, seen by
-        // fewer beams) belong to it, so that a place is as wide as the object that left it.
-        removed[i] = 1;
-        sure[i] = DynamicGridMap::staticOccupancyOfValue(p) > options_.removed_occupancy;
+      } else if (DynamicGridMap::staticOccupancyOfValue(p) > options_.removed_occupancy &&
+                 map.isStaticFree(x, y)) {
+        removed[i] = !near(x, y, m, now_occupied);
       }
     }
   }
@@ -293,10 +301,7 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
       found.push_back(row);
   }
   for (const Region& r : regionsOf(removed, sx, sy)) {
-    const auto sure_cells = std::count_if(r.cells.begin(), r.cells.end(), [&](const auto& c) {
-      return sure[static_cast<std::size_t>(c.second) * sx + c.first] != 0;
-    });
-    if (sure_cells < options_.structure_min_cells) continue;
+    if (static_cast<int>(r.cells.size()) < options_.structure_min_cells) continue;
     ChangeRow row = rowOf(r, "structure_removed", map);
     if (row.size <= objects_.max_size) {  // an object's size: a place an object left
       // Its place and size as the tracker fits them: the removed cells are the arc the
@@ -308,7 +313,9 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
       row.from_y = shape.cy;
       row.size = shape.size;
       row.kind = "vacated";
-      vacated.push_back(row);
+      // Where the prior's table had an object, S's cells are where it stood before it was
+      // seen moving: that object's business (carriedChanges), no other object's origin.
+      if (!onTablePlace(row.from_x, row.from_y)) vacated.push_back(row);
     } else {
       found.push_back(row);
     }

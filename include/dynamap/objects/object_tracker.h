@@ -71,6 +71,11 @@ class ObjectTracker {
   /// Relabeled event (from_id: the id it had); a new object's old row becomes Relabeled, a
   /// carried id no object keeps is absent at its carried place again. Nothing without carryOver.
   void settleCarried(double t, std::size_t scan_index);
+  /// Object `id` is no object but part of a wall that appeared (a layer above says so): a
+  /// carried row becomes again as it came (not found this session); any other becomes
+  /// Retracted, with a Retracted event, and its id goes to no detection again. False (nothing
+  /// done) when `id` is no object listed in the table.
+  bool retire(int id, double t, std::size_t scan_index);
 
   /// Withdraws object `id`, which is absent (gone from its place) and was a person standing, a
   /// layer above found: state Withdrawn, a Withdrawn event; no identity ever goes to it again.

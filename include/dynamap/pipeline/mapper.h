@@ -94,7 +94,8 @@ class Mapper {
   /// first scan on) and the run reports what changed (changes()). Throws std::invalid_argument
   /// when the prior's grid does not fit this run's [dynamic_map] (its resolution, its size).
   void continueFrom(SessionState prior);
-  /// After the last scan of a continued session: the carried ids settle on the objects present
+  /// After the last scan of a continued session: objects on structure the session added are
+  /// retired (ObjectTracker::retire), then the carried ids settle on the objects present
   /// (ObjectTracker::settleCarried). Nothing when not continuing one.
   void finishSession();
   /// The change report's state when continuing a prior session; null otherwise.

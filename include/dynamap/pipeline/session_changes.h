@@ -100,6 +100,8 @@ class SessionChanges {
   };
   /// Whether at least gone_views scans saw the place empty, more than saw it occupied.
   bool seenEmpty(const Place& p) const;
+  /// Whether (x, y) lies within an object the prior's table listed (present or absent).
+  bool onTablePlace(double x, double y) const;
   /// Changes of the objects the prior's table held.
   void carriedChanges(const ObjectTracker& tracker, std::vector<ChangeRow>& rows) const;
   /// carriedChanges, then each object new to the table: moved from the `vacated` place of its
