@@ -265,6 +265,16 @@ ChangeRow rowOf(const Region& r, const char* kind, const DynamicGridMap& map) {
   return row;
 }
 
+// Largest first within a kind, numbered 1, 2, ... per kind.
+void numberByKind(std::vector<ChangeRow>& found) {
+  std::stable_sort(found.begin(), found.end(), [](const ChangeRow& a, const ChangeRow& b) {
+    return a.kind != b.kind ? a.kind < b.kind : a.cells > b.cells;
+  });
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    found[k].id = k > 0 && found[k - 1].kind == found[k].kind ? found[k - 1].id + 1 : 1;
+  }
+}
+
 }  // namespace
 
 void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<ChangeRow>& rows,
@@ -320,13 +330,7 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
       found.push_back(row);
     }
   }
-  // Largest first within a kind, numbered 1, 2, ... per kind.
-  std::stable_sort(found.begin(), found.end(), [](const ChangeRow& a, const ChangeRow& b) {
-    return a.kind != b.kind ? a.kind < b.kind : a.cells > b.cells;
-  });
-  for (std::size_t k = 0; k < found.size(); ++k) {
-    found[k].id = k > 0 && found[k - 1].kind == found[k].kind ? found[k - 1].id + 1 : 1;
-  }
+  numberByKind(found);
   rows.insert(rows.end(), found.begin(), found.end());
 }
 
