@@ -167,6 +167,10 @@ void setCircle(ShapeEstimate& s, double cx, double cy, double size) {
   s.y_max = cy + 0.5 * size;
 }
 
+// Two half diagonals of a cell: how much farther apart two cell centres can lie than the points
+// of a surface that marked them (a ring of cells seen all round is that much wider).
+constexpr double kHalfDiagonals = 1.41421356237309515;
+
 // The circle fit of estimateShape's cell centres, into `s` when it is sane.
 bool cellCircle(const std::vector<double>& xs, const std::vector<double>& ys, double width,
                 double res, const ObjectOptions& options, ShapeEstimate& s) {
@@ -177,9 +181,11 @@ bool cellCircle(const std::vector<double>& xs, const std::vector<double>& ys, do
     return false;
   }
   double d = 2 * c.r;
-  // Sane: as wide as the cells at least (less a cell of quantisation), not much wider than
+  // Sane: as wide as the cells at least (less their quantisation: a cell's centre lies up to
+  // half its diagonal off the surface that marked it, on either side), not much wider than
   // them (a short arc of a huge circle is a wall, not a cylinder), within max_size.
-  if (!(d >= width - res && d <= 1.6 * (width + res) && d <= options.max_size)) return false;
+  if (!(d >= width - kHalfDiagonals * res && d <= 1.6 * (width + res) && d <= options.max_size))
+    return false;
   // An arc of grid cells looks flatter than the surface: the fit overshoots, while a convex
   // object's outline is exactly as wide as the object. Keep the smaller, and centre the circle
   // of that size on the cells.
