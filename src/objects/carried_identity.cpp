@@ -13,9 +13,6 @@ namespace dynamap {
 namespace {
 
 constexpr double kForbidden = std::numeric_limits<double>::infinity();
-// Staying new costs one size tolerance: a carried id goes to an object only when its size and
-// place fit better than that.
-constexpr double kStayNew = 1.0;
 
 }  // namespace
 
@@ -30,16 +27,20 @@ std::map<int, int> ObjectTracker::carriedAssignment() const {
   const auto n = static_cast<Eigen::Index>(present.size());
   const auto m = static_cast<Eigen::Index>(carried.size());
   Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(n, m + n, kForbidden);
+  // Between two sessions anything may have been carried anywhere: a distance says which of
+  // two carried objects of a size it is, not whether it is one. Staying new costs more than
+  // any pair allowed (size within size_tolerance, within far_match_distance).
+  const double stay_new = 1.0 + options_.far_match_distance / options_.match_distance_scale;
   for (Eigen::Index i = 0; i < n; ++i) {
     const ShapeEstimate& s = objects_[static_cast<std::size_t>(present[i] - 1)].shape;
     for (Eigen::Index j = 0; j < m; ++j) {
       const ShapeEstimate& c = carried_[static_cast<std::size_t>(carried[j] - 1)].shape;
       const double ds = std::abs(s.size - c.size);
-      if (ds > options_.size_tolerance) continue;
-      cost(i, j) = ds / options_.size_tolerance +
-                   std::hypot(s.cx - c.cx, s.cy - c.cy) / options_.match_distance_scale;
+      const double d = std::hypot(s.cx - c.cx, s.cy - c.cy);
+      if (ds > options_.size_tolerance || d > options_.far_match_distance) continue;
+      cost(i, j) = ds / options_.size_tolerance + d / options_.match_distance_scale;
     }
-    cost(i, m + i) = kStayNew;
+    cost(i, m + i) = stay_new;
   }
   const std::vector<int> pick = solveAssignment(cost, kForbidden);
   std::map<int, int> out;

@@ -65,11 +65,13 @@ class ObjectTracker {
   /// a partial view (smaller) or an object of a size near it; now every present object's size has
   /// settled. One assignment (solveAssignment) over the present objects and the carried rows
   /// the prior listed: a pair costs its size difference over size_tolerance plus the distance
-  /// from the carried place over match_distance_scale (sizes further apart than size_tolerance
-  /// never pair); keeping an object's own identity costs nothing more than that, and a present
-  /// object may stay new at a cost of 1 (one size_tolerance). An object whose id changes gets a
-  /// Relabeled event (from_id: the id it had); a new object's old row becomes Relabeled, a
-  /// carried id no object keeps is absent at its carried place again. Nothing without carryOver.
+  /// from the carried place over match_distance_scale, and sizes further apart than
+  /// size_tolerance or places farther than far_match_distance never pair; an object stays new
+  /// only when no such pair is left for it (between sessions anything may have been carried
+  /// anywhere: the distance tells two candidates apart, not a candidate from none). An object whose
+  /// id changes gets a Relabeled event (from_id: the id it had); a new object's old row becomes
+  /// Relabeled, a carried id no object keeps is absent at its carried place again. Nothing without
+  /// carryOver.
   void settleCarried(double t, std::size_t scan_index);
   /// Object `id` is no object but part of a wall that appeared (a layer above says so): a
   /// carried row becomes again as it came (not found this session); any other becomes
