@@ -60,7 +60,8 @@ class ObjectTracker {
   /// order.
   void carryOver(std::vector<TrackedObject> rows, double t);
 
-  /// At a continued session's end: the carried ids go to the objects present now that fit them
+  /// At a continued session's end: a carried id whose claim was withdrawn or retracted is as it
+  /// came again; then the carried ids go to the objects present now that fit them
   /// best, all at once. During the session each id went to the first detection of its size, often
   /// a partial view (smaller) or an object of a size near it; now every present object's size has
   /// settled. One assignment (solveAssignment) over the present objects and the carried rows
@@ -178,8 +179,12 @@ class ObjectTracker {
   /// one seen gone since say, or a new one).
   void revive(Track& place, int took, const ScanView& view, double t, std::size_t scan_index);
   int newObject(double t);
-  /// settleCarried's assignment: for each present object (by id), the id it should hold.
+  /// settleCarried's assignment: for each present object (by id) and each stale place still
+  /// holding cells (by minus its track's key), the id it should hold (0: a new one).
   std::map<int, int> carriedAssignment() const;
+  /// Object `to`'s row becomes present with `row`'s shape and times (settleCarried); `fresh`:
+  /// a new row, which takes its first sighting from `row`.
+  void giveId(int to, const TrackedObject& row, bool fresh);
   void emit(double t, std::size_t scan_index, const TrackedObject& o, ObjectEvent e);
   TrackedObject& object(int id) { return objects_[static_cast<std::size_t>(id - 1)]; }
   /// The key of the track confirmed as object `id`, or 0.
