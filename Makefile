@@ -29,8 +29,10 @@
 #                standing robot with people walking past ($(DATASETS)/people/)
 #   make eval-slam  --poses slam on the real CARMEN logs of $(DATASETS)/carmen/ made to drift
 #                (dynamap perturb, seeds 1-3): one table of every log x seed (bench/eval_slam.sh)
-#   make eval-sessions  the same real logs cut in two sessions, the second mapped against the
-#                first (--prior): the changes it reports and its cost (bench/eval_sessions.sh)
+#   make eval-sessions  the simulated multi-session worlds of config/sessions/ scored by eval
+#                --sessions (bench/eval_sessions_sim.sh); the same real logs cut in two sessions,
+#                the second mapped against the first (--prior): the changes it reports and its
+#                cost (bench/eval_sessions.sh)
 #   make compare-icp-slam  odometry-only mapping: dynamap's scan matching against MRPT's icp-slam
 #                and raw odometry on corridors_odom (installs mrpt-apps), and the SENA log maps
 #                with odometry, scan matching and slam, each scored by its consistency
@@ -296,6 +298,7 @@ eval-slam: build
 	else echo "dynamap: no $(DATASETS)/carmen/*-corrected.log.gz, nothing to evaluate"; fi
 
 eval-sessions: build
+	@bash bench/eval_sessions_sim.sh $(DYNAMAP) $(EVAL_SESSIONS_OUT)
 	@if ls $(DATASETS)/carmen/*-corrected.log.gz >/dev/null 2>&1; then \
 	  bash bench/eval_sessions.sh $(DYNAMAP) $(DATASETS) $(EVAL_SESSIONS_OUT); \
 	else echo "dynamap: no $(DATASETS)/carmen/*-corrected.log.gz, nothing to evaluate"; fi
