@@ -60,9 +60,8 @@ int runSimulate(const Args& args) {
             << scenario.people.size() << " people -> " << files.rawlog << " (+ .gt.txt, "
             << ".objects.csv, .moves.csv, .world.png)\n";
   for (std::size_t i = 1; i < scans.size(); ++i) {
-    const auto session = sim::sessionScenario(scenario, static_cast<int>(i) + 1);
-    std::cout << "  session " << i + 1 << ": " << scans[i] << " scans, " << session.objects.size()
-              << " objects -> " << sim::outputPaths(session, out).rawlog << "\n";
+    std::cout << "  session " << i + 1 << ": " << scans[i] << " scans -> " << out << "/"
+              << scenario.name << ".s" << i + 1 << ".rawlog\n";
   }
   if (scans.size() > 1) {
     std::cout << "  " << sim::sessionChanges(scenario).size() << " changes between sessions -> "

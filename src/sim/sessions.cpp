@@ -227,6 +227,16 @@ Scenario sessionScenario(const Scenario& scenario, int n) {
   return s;
 }
 
+void forEachSession(const Scenario& scenario, const std::function<void(const Scenario&)>& f) {
+  Scenario s = scenario;
+  s.sessions.clear();
+  f(s);
+  for (const SessionSpec& spec : scenario.sessions) {
+    s = applySession(scenario, s, spec);
+    f(s);
+  }
+}
+
 namespace {
 
 void objectChanges(const Scenario& prev, const SessionSpec& spec, std::vector<SessionChange>& out) {

@@ -267,9 +267,7 @@ std::size_t writeSimulation(const Scenario& sc, const std::string& out_dir) {
 
 std::vector<std::size_t> writeSessions(const Scenario& sc, const std::string& out_dir) {
   std::vector<std::size_t> scans;
-  for (int n = 1; n <= static_cast<int>(sc.sessions.size()) + 1; ++n) {
-    scans.push_back(writeSimulation(sessionScenario(sc, n), out_dir));
-  }
+  forEachSession(sc, [&](const Scenario& s) { scans.push_back(writeSimulation(s, out_dir)); });
   if (sc.sessions.empty()) return scans;
   const std::string path = (std::filesystem::path(out_dir) / sc.name).string() + ".changes.csv";
   std::ofstream out = openText(path);

@@ -5,6 +5,7 @@
 // Every error is a dynamap::ConfigError naming the file, the section and the key.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -132,6 +133,9 @@ Scenario parseScenario(const IniFile& ini, const std::string& base_dir);
 /// objects where session N-1 left them with its changes applied, has no moves, keeps the people,
 /// drives its own route, draws its noise from seed + N - 1 and is timed (N - 1) days later.
 Scenario sessionScenario(const Scenario& scenario, int n);
+/// Calls `f` with sessionScenario(scenario, 1), 2, ... in turn, each built from the one before
+/// (linear in the sessions; one session's copy alive at a time besides the scenario).
+void forEachSession(const Scenario& scenario, const std::function<void(const Scenario&)>& f);
 /// Every change between consecutive sessions, by session, then kind as in SessionChange, then id.
 std::vector<SessionChange> sessionChanges(const Scenario& scenario);
 
