@@ -161,8 +161,8 @@ Json recordsSkipped(const SourceStats& s) {
 /// The change report's counts by kind, and which session this is (2: the first continued).
 Json changeSummary(const std::vector<ChangeRow>& rows, int session) {
   Json by_kind = Json::object();
-  for (const char* k : {"object_moved", "object_new", "object_gone", "structure_added",
-                        "structure_removed"}) {
+  for (const char* k :
+       {"object_moved", "object_new", "object_gone", "structure_added", "structure_removed"}) {
     by_kind[k] = 0;
   }
   for (const ChangeRow& r : rows) by_kind[r.kind] = by_kind[r.kind].get<int>() + 1;
@@ -236,7 +236,7 @@ void writeMapOutputs(const std::string& dir, const Mapper& mapper, const ScanSou
                       [&](std::ostream& o) { writeSessionState(mapper.sessionState(), o); });
   Json j = summary(mapper, source, info);
   if (const SessionChanges* changes = mapper.changes()) {
-    const std::vector<ChangeRow> rows = changes->report(m, mapper.tracker());
+    const std::vector<ChangeRow> rows = mapper.changeReport();
     writeFileAtomically(dir, "changes.csv", [&](std::ostream& o) { writeChangesCsv(o, rows); });
     saveImageAtomically(renderChanges(m, *changes, rows), dir, "changes.png");
     j["changes"] = changeSummary(rows, mapper.sessions());

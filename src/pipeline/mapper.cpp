@@ -215,8 +215,9 @@ void Mapper::continueFrom(SessionState prior) {
 
 void Mapper::finishSession() {
   if (!changes_ || carried_) return;
+  const SessionChanges::GridChanges grid = changes_->gridChanges(map_);
   // What the tracker took for objects on a wall that appeared are parts of it.
-  for (const ChangeRow& r : changes_->report(map_, tracker_)) {
+  for (const ChangeRow& r : grid.structure) {
     if (r.kind != "structure_added") continue;
     for (const TrackedObject& o : tracker_.objects()) {
       const double reach = 0.5 * o.shape.size + map_.getResolution();
@@ -228,6 +229,12 @@ void Mapper::finishSession() {
     }
   }
   tracker_.settleCarried(last_scan_t_, last_scan_index_);
+  final_changes_ = changes_->report(grid, tracker_);
+}
+
+std::vector<ChangeRow> Mapper::changeReport() const {
+  if (final_changes_) return *final_changes_;
+  return changes_ ? changes_->report(map_, tracker_) : std::vector<ChangeRow>{};
 }
 
 SessionState Mapper::sessionState() const {
@@ -243,7 +250,7 @@ SessionState Mapper::sessionState() const {
   // building's now: the next session's S holds it, and can see it removed.
   if (changes_ && !carried_) {
     const auto occupied = DynamicGridMap::p2l(kAddedStructureFree);
-    for (const ChangeRow& r : changes_->report(map_, tracker_)) {
+    for (const ChangeRow& r : changeReport()) {
       if (r.kind != "structure_added") continue;
       for (const auto& [x, y] : r.region)
         s.static_cells[static_cast<std::size_t>(y) * s.size_x + x] = occupied;

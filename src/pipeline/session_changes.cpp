@@ -334,13 +334,23 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
   rows.insert(rows.end(), found.begin(), found.end());
 }
 
+SessionChanges::GridChanges SessionChanges::gridChanges(const DynamicGridMap& map) const {
+  GridChanges g;
+  structureChanges(map, g.structure, g.vacated);
+  return g;
+}
+
+std::vector<ChangeRow> SessionChanges::report(const GridChanges& grid,
+                                              const ObjectTracker& tracker) const {
+  std::vector<ChangeRow> rows;
+  objectChanges(tracker, grid.vacated, rows);
+  rows.insert(rows.end(), grid.structure.begin(), grid.structure.end());
+  return rows;
+}
+
 std::vector<ChangeRow> SessionChanges::report(const DynamicGridMap& map,
                                               const ObjectTracker& tracker) const {
-  std::vector<ChangeRow> rows, structure, vacated;
-  structureChanges(map, structure, vacated);
-  objectChanges(tracker, std::move(vacated), rows);
-  rows.insert(rows.end(), structure.begin(), structure.end());
-  return rows;
+  return report(gridChanges(map), tracker);
 }
 
 }  // namespace dynamap

@@ -6,6 +6,7 @@
 #include <iosfwd>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -98,6 +99,9 @@ class Mapper {
   /// retired (ObjectTracker::retire), then the carried ids settle on the objects present
   /// (ObjectTracker::settleCarried). Nothing when not continuing one.
   void finishSession();
+  /// The change report of a continued session (empty otherwise): after finishSession() the one
+  /// it settled on, else as the maps stand.
+  std::vector<ChangeRow> changeReport() const;
   /// The change report's state when continuing a prior session; null otherwise.
   const SessionChanges* changes() const { return changes_.get(); }
   /// What this run leaves for the next session: S, the object table, the last pose and time.
@@ -137,11 +141,11 @@ class Mapper {
   const LegClassifier* legs_ = nullptr;  // the one in use; null: no leg classifier
   PeopleObjects people_objects_;
   RobotPath path_;
-  RangeData range_;  // this scan's geometry; its buffers kept from scan to scan
-  ScanHits hits_;     // this scan's hit points for the people detector; likewise
+  RangeData range_;                   // this scan's geometry; its buffers kept from scan to scan
+  ScanHits hits_;                     // this scan's hit points for the people detector; likewise
   std::vector<HitPoint2> free_hits_;  // this scan's hits where S holds free space
-  ShareAverage free_share_;     // of the scans' hits, where S holds free space
-  ShareAverage surface_share_;  // ...on surfaces wider than objects.max_size
+  ShareAverage free_share_;           // of the scans' hits, where S holds free space
+  ShareAverage surface_share_;        // ...on surfaces wider than objects.max_size
   /// D holds only while some hits (one in twenty) lie on such surfaces, besides.
   static constexpr double kSurfaceShare = 0.05;
   RunCounts counts_;
@@ -150,7 +154,8 @@ class Mapper {
   std::unique_ptr<std::vector<TrackedObject>> carried_;
   std::unique_ptr<SessionChanges> changes_;
   int sessions_ = 1;
-  mrpt::poses::CPose2D last_scan_pose_;  // of the last scan inserted
+  mrpt::poses::CPose2D last_scan_pose_;                  // of the last scan inserted
+  std::optional<std::vector<ChangeRow>> final_changes_;  // set by finishSession()
   double last_scan_t_ = 0;
   std::size_t last_scan_index_ = 0;
   std::unique_ptr<ScanMatcher> matcher_;  // null unless poses is ScanMatching

@@ -32,8 +32,8 @@
 #include <limits>
 #include <ostream>
 #include <string>
-#include <utility>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "dynamap/base/cell_key.h"
@@ -50,7 +50,8 @@ struct ChangeOptions {
   static constexpr const char* kSection = "changes";
   /// [m] a structure change this close to the other session's walls is their pose error; [0, 2]
   double structure_margin = 0.15;
-  int structure_min_cells = 6;  ///< fewer cells are no change of S (structure, a place left); [1, 1e6]
+  int structure_min_cells =
+      6;  ///< fewer cells are no change of S (structure, a place left); [1, 1e6]
   /// [s] "stays": an added structure's cells must have been in D this long at the session's
   /// end (what came and went again, or came at the very end, is no new structure); [0, 1e6]
   double structure_stay_s = 10.0;
@@ -58,7 +59,8 @@ struct ChangeOptions {
   /// removed or a place an object left. 0.9 is three hits at s_hit_notfree 0.7: a person who
   /// stood a moment, a grazing beam, leave less. In [0.5, 1]
   double removed_occupancy = 0.9;
-  int gone_views = 5;  ///< scans that saw a carried object's place empty before it is gone; [1, 1e6]
+  int gone_views =
+      5;  ///< scans that saw a carried object's place empty before it is gone; [1, 1e6]
 
   static const OptionTable<ChangeOptions>& table();
   void load(const IniFile& ini);
@@ -87,8 +89,16 @@ class SessionChanges {
   /// After the scan seen as `view` was inserted into `map` at time `t`.
   void update(const DynamicGridMap& map, const ScanView& view, double t);
 
+  /// What the grids say at the end, read once: structure added and removed (largest first),
+  /// and the places objects of the prior's S left.
+  struct GridChanges {
+    std::vector<ChangeRow> structure, vacated;
+  };
+  GridChanges gridChanges(const DynamicGridMap& map) const;
   /// The changes, objects (by id) first, then added and removed structure (largest first).
   std::vector<ChangeRow> report(const DynamicGridMap& map, const ObjectTracker& tracker) const;
+  /// The same from the grids' changes read before (`grid`, of the map as it still is).
+  std::vector<ChangeRow> report(const GridChanges& grid, const ObjectTracker& tracker) const;
   /// The prior's S (raw MRPT value) at the cell holding (x, y); 0 (unknown) off its grid.
   std::int8_t priorCell(double x, double y) const;
 
@@ -116,7 +126,7 @@ class SessionChanges {
   ChangeOptions options_;
   ObjectOptions objects_;
   SessionState prior_;
-  std::vector<Place> places_;  // the prior's present objects
+  std::vector<Place> places_;                    // the prior's present objects
   std::unordered_map<CellKey, double> entered_;  // D object cell (global) -> when it entered D
   double last_t_ = 0;
 };
