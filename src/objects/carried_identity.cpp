@@ -42,7 +42,7 @@ std::map<int, int> ObjectTracker::carriedAssignment() const {
   for (Eigen::Index i = 0; i < n; ++i) {
     const ShapeEstimate& s = *holders[static_cast<std::size_t>(i)].second;
     for (Eigen::Index j = 0; j < m; ++j) {
-      const ShapeEstimate& c = carried_[static_cast<std::size_t>(carried[j] - 1)].shape;
+      const ShapeEstimate& c = carriedRow(carried[j]).shape;
       const double ds = std::abs(s.size - c.size);
       const double d = std::hypot(s.cx - c.cx, s.cy - c.cy);
       if (ds > options_.size_tolerance || d > options_.far_match_distance) continue;
@@ -55,7 +55,7 @@ std::map<int, int> ObjectTracker::carriedAssignment() const {
   for (Eigen::Index i = 0; i < n; ++i) {
     const int j = pick[static_cast<std::size_t>(i)];
     const int now = holders[static_cast<std::size_t>(i)].first;
-    const bool is_carried = now > 0 && now <= static_cast<int>(carried_.size());
+    const bool is_carried = now > 0 && isCarried(now);
     // Staying: a new object keeps its id, a carried id not kept takes a new one (0), a stale
     // place stays stale (its own entry).
     out[now] = j >= 0 && j < m ? carried[j] : (is_carried ? 0 : now);
@@ -96,7 +96,7 @@ void ObjectTracker::settleCarried(double t, std::size_t scan_index) {
     Track& tr = tracks_.at(-now);
     TrackedObject row = object(tr.stale()->object_id);
     const ShapeEstimate& place = tr.stale()->shape;
-    row.shape = carried_[static_cast<std::size_t>(to - 1)].shape;
+    row.shape = carriedRow(to).shape;
     row.shape.cx = place.cx;
     row.shape.cy = place.cy;
     row.history = {};
@@ -107,8 +107,8 @@ void ObjectTracker::settleCarried(double t, std::size_t scan_index) {
   for (const auto& kv : moving) {
     if (kv.first < 0) continue;
     TrackedObject& o = object(kv.first);
-    if (kv.first <= static_cast<int>(carried_.size())) {
-      o = carried_[static_cast<std::size_t>(kv.first - 1)];
+    if (isCarried(kv.first)) {
+      o = carriedRow(kv.first);
     } else {
       o.state = ObjectState::Relabeled;
     }
@@ -136,8 +136,8 @@ bool ObjectTracker::retire(int id, double t, std::size_t scan_index) {
     return false;
   }
   TrackedObject& o = object(id);
-  if (id <= static_cast<int>(carried_.size())) {
-    o = carried_[static_cast<std::size_t>(id - 1)];
+  if (isCarried(id)) {
+    o = carriedRow(id);
     return true;
   }
   o.state = ObjectState::Retracted;

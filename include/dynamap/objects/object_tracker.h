@@ -182,6 +182,11 @@ class ObjectTracker {
   /// settleCarried's assignment: for each present object (by id) and each stale place still
   /// holding cells (by minus its track's key), the id it should hold (0: a new one).
   std::map<int, int> carriedAssignment() const;
+  /// Whether object `id` (>= 1) came from carryOver, and its row as it came.
+  bool isCarried(int id) const { return id <= static_cast<int>(carried_.size()); }
+  const TrackedObject& carriedRow(int id) const {
+    return carried_[static_cast<std::size_t>(id - 1)];
+  }
   /// Object `to`'s row becomes present with `row`'s shape and times (settleCarried); `fresh`:
   /// a new row, which takes its first sighting from `row`.
   void giveId(int to, const TrackedObject& row, bool fresh);
