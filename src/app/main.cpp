@@ -1,6 +1,8 @@
 // dynamap: maps environments in which things move. main() only dispatches to a subcommand and
 // turns exceptions into one-line errors with a documented exit status.
 
+#include <malloc.h>
+
 #include <iostream>
 
 #include "commands.h"
@@ -60,6 +62,12 @@ void printHelp(std::ostream& out) {
 
 int main(int argc, char** argv) {
   using namespace dynamap::app;
+  // A run allocates and frees grid-sized buffers (a layer regrown, an image, a mask) many times.
+  // glibc would hand each one above its mmap threshold back to the kernel and fault every page in
+  // again on the next: keep freed memory in the heap instead. The peak is bounded as before by
+  // [dynamic_map] max_map_size_m; only its return to the system waits for the process's end.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   if (argc < 2) {
     printHelp(std::cerr);
     return kExitUsage;
