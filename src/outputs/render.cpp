@@ -403,12 +403,11 @@ CImage paintChangeCells(const DynamicGridMap& map, const View& view,
     for (const auto& [x, y] : r.region) tag[x + static_cast<std::size_t>(y) * map.getSizeX()] = t;
   }
   const auto colour = [](const mrpt::img::TColor& c) { return Bgr{c.B, c.G, c.R}; };
+  const std::vector<std::int8_t> on_grid = changes.priorOnGrid(map);
   return paintCells(map, view, [&](std::size_t i) {
     if (tag[i] == 1) return colour(kRemoved);
     if (tag[i] == 2) return colour(kAdded);
-    const double x = map.idx2x(static_cast<int>(i % map.getSizeX()));
-    const double y = map.idx2y(static_cast<int>(i / map.getSizeX()));
-    const std::int8_t prior = changes.priorCell(x, y);
+    const std::int8_t prior = on_grid[i];
     const std::uint8_t g = prior != 0 ? DynamicGridMap::l2p_255(prior) : grey(map, i);
     return Bgr{g, g, g};
   });

@@ -95,6 +95,29 @@ std::int8_t SessionChanges::priorCell(double x, double y) const {
       .static_cells[static_cast<std::size_t>(fx) + static_cast<std::size_t>(fy) * prior_.size_x];
 }
 
+std::vector<std::int8_t> SessionChanges::priorOnGrid(const DynamicGridMap& map) const {
+  const unsigned sx = map.getSizeX(), sy = map.getSizeY();
+  std::vector<std::int8_t> cells(static_cast<std::size_t>(sx) * sy, 0);
+  const double fx = (map.getXMin() - prior_.x_min) / prior_.resolution;
+  const double fy = (map.getYMin() - prior_.y_min) / prior_.resolution;
+  const long ox = std::lround(fx), oy = std::lround(fy);
+  const bool aligned = std::abs(map.getResolution() - prior_.resolution) < 1e-6 * prior_.resolution &&
+                       std::abs(fx - ox) < 1e-3 && std::abs(fy - oy) < 1e-3;
+  for (unsigned y = 0; y < sy; ++y) {
+    const auto row = cells.begin() + static_cast<std::ptrdiff_t>(y) * sx;
+    const long py = static_cast<long>(y) + oy;
+    if (!aligned) {
+      for (unsigned x = 0; x < sx; ++x) row[x] = priorCell(map.idx2x(x), map.idx2y(y));
+    } else if (py >= 0 && py < static_cast<long>(prior_.size_y)) {
+      // Map cell x is prior cell x + ox: copy where both grids hold it.
+      const long x0 = std::max(0L, -ox), x1 = std::min<long>(sx, static_cast<long>(prior_.size_x) - ox);
+      const auto src = prior_.static_cells.begin() + py * static_cast<long>(prior_.size_x) + ox;
+      if (x0 < x1) std::copy(src + x0, src + x1, row + x0);
+    }
+  }
+  return cells;
+}
+
 bool SessionChanges::onTablePlace(double x, double y) const {
   return std::any_of(prior_.objects.begin(), prior_.objects.end(), [&](const SessionObject& o) {
     const bool listed = o.state == "present" || o.state == "absent";
@@ -283,7 +306,11 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
   const double res = map.getResolution();
   const int m = static_cast<int>(std::ceil(options_.structure_margin / res - 1e-9));
   const int ox = globalOrigin(map.getXMin(), res), oy = globalOrigin(map.getYMin(), res);
-  const auto prior = [&](int x, int y) { return priorCell(map.idx2x(x), map.idx2y(y)); };
+  const std::vector<std::int8_t> on_grid = priorOnGrid(map);
+  const auto prior = [&](int x, int y) {  // off the map: off the prior's grid too, as it grew
+    const bool in = x >= 0 && y >= 0 && x < sx && y < sy;
+    return in ? on_grid[x + static_cast<std::size_t>(y) * sx] : priorCell(map.idx2x(x), map.idx2y(y));
+  };
   const auto prior_occupied = [&](int x, int y) {
     return DynamicGridMap::isOccupiedValue(prior(x, y));
   };

@@ -1,9 +1,11 @@
 // Mapper::continueFrom: a session continued from a prior state keeps the prior's S and its
 // table even when no scan of the new log could be mapped, and its change report is then empty.
+// SessionChanges::priorOnGrid: the prior's S on a grid grown from it, or laid elsewhere.
 
 #include <gtest/gtest.h>
 
 #include "dynamap/pipeline/mapper.h"
+#include "dynamap/pipeline/session_changes.h"
 
 namespace dynamap {
 namespace {
@@ -36,6 +38,40 @@ TEST(SessionContinue, WithNoScanMappedTheStateIsThePriorsAndNothingChanged) {
   EXPECT_EQ(again.objects[0].cx, 0.5);
   ASSERT_NE(mapper.changes(), nullptr);
   EXPECT_TRUE(mapper.changes()->report(mapper.map(), mapper.tracker()).empty());
+}
+
+// The prior's S laid on the map's grid: cell by cell what priorCell says at each centre, on the
+// prior's own grid, on that grid grown (whole cells, on every side), and on a finer grid whose
+// cells do not line up with the prior's. Returns how many cells hold the prior's occupied one.
+int expectPriorOnGridIsPriorCell(const DynamicGridMap& map, const SessionChanges& changes) {
+  const std::vector<std::int8_t> on_grid = changes.priorOnGrid(map);
+  EXPECT_EQ(on_grid.size(), static_cast<std::size_t>(map.getSizeX()) * map.getSizeY());
+  int occupied = 0;
+  for (unsigned y = 0; y < map.getSizeY(); ++y) {
+    for (unsigned x = 0; x < map.getSizeX(); ++x) {
+      const std::int8_t want = changes.priorCell(map.idx2x(x), map.idx2y(y));
+      EXPECT_EQ(on_grid[x + static_cast<std::size_t>(y) * map.getSizeX()], want) << x << " " << y;
+      occupied += want == -60 ? 1 : 0;
+    }
+  }
+  return occupied;
+}
+
+TEST(SessionContinue, ThePriorOnTheMapsGridIsThePriorCellAtEachCentre) {
+  const SessionState prior = priorState();
+  const SessionChanges changes(prior, ChangeOptions{}, ObjectOptions{});
+  DynamicGridMap map;
+  map.loadStatic(prior.x_min, prior.y_min, prior.resolution, prior.size_x, prior.size_y,
+                 prior.static_cells);
+  EXPECT_EQ(expectPriorOnGridIsPriorCell(map, changes), 1);
+  EXPECT_EQ(changes.priorOnGrid(map)[5], -60);  // the same grid: the same index
+  map.resizeGrid(-3.0f, 2.5f, -2.75f, 0.5f, 0.5f, false);  // grown on every side
+  EXPECT_EQ(expectPriorOnGridIsPriorCell(map, changes), 1);
+  EXPECT_EQ(changes.priorOnGrid(map)[5], 0);  // moved: cell 5 is off the prior's grid now
+  map.setSize(-1.5f, 1.5f, -2.5f, -0.5f, 0.03f, 0.5f);  // 3 cm cells: 1-4 in the 5 cm one
+  const int finer = expectPriorOnGridIsPriorCell(map, changes);
+  EXPECT_GE(finer, 1);
+  EXPECT_LE(finer, 4);
 }
 
 TEST(SessionContinue, APriorOfAnotherResolutionDoesNotFit) {

@@ -101,6 +101,9 @@ class SessionChanges {
   std::vector<ChangeRow> report(const GridChanges& grid, const ObjectTracker& tracker) const;
   /// The prior's S (raw MRPT value) at the cell holding (x, y); 0 (unknown) off its grid.
   std::int8_t priorCell(double x, double y) const;
+  /// priorCell at the centre of every cell of `map`, row by row (index x + y * size_x): a grid
+  /// grown from the prior's lies on it at whole cells, and is copied row by row.
+  std::vector<std::int8_t> priorOnGrid(const DynamicGridMap& map) const;
 
  private:
   struct Place {
