@@ -73,15 +73,22 @@ bool PlainGrid::insert(const mrpt::obs::CObservation2DRangeScan& scan,
 
 PlainComparison comparePlain(const DynamicGridMap& map,
                              const mrpt::maps::COccupancyGridMap2D& plain) {
+  // On raw cells: P(occ) > 0.5 is a value below 0 in both grids (MRPT's log-odds of being
+  // free), and MRPT's getCell looks its probability table up on every call.
   PlainComparison c;
+  const auto& s_cells = map.getRawMap();
+  const auto& p_cells = plain.getRawMap();
+  const int psx = static_cast<int>(plain.getSizeX()), psy = static_cast<int>(plain.getSizeY());
   for (unsigned cy = 0; cy < map.getSizeY(); ++cy) {
-    const float y = map.idx2y(cy);
-    const int py = plain.y2idx(y);
+    const int py = plain.y2idx(map.idx2y(cy));
+    const std::size_t row = static_cast<std::size_t>(cy) * map.getSizeX();
     for (unsigned cx = 0; cx < map.getSizeX(); ++cx) {
-      const bool s_occ = map.getCell(cx, cy) < 0.5f;
+      const bool s_occ = DynamicGridMap::isOccupiedValue(s_cells[row + cx]);
       const bool s_free = map.isStaticFree(cx, cy);
-      // Outside the plain grid: unknown there (getCell answers 0.5).
-      const bool p_occ = plain.getCell(plain.x2idx(map.idx2x(cx)), py) < 0.5f;
+      // Outside the plain grid: unknown there.
+      const int px = plain.x2idx(map.idx2x(cx));
+      const bool p_occ = px >= 0 && px < psx && py >= 0 && py < psy &&
+                         p_cells[px + static_cast<std::size_t>(py) * psx] < 0;
       c.plain_occupied_static_free += p_occ && s_free;
       c.static_occupied_plain_not += s_occ && !p_occ;
       c.both_occupied += s_occ && p_occ;

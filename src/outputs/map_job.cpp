@@ -193,9 +193,10 @@ MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   r.baseline_wall_s = std::chrono::duration<double>(w.baseline_time).count();
   r.wall_s = secondsSince(start) - r.baseline_wall_s;
   if (job.on_mapped) job.on_mapped(mapper);
-  writeMapOutputs(
-      dir, mapper, *source,
-      {job.input, r.wall_s, r.outcome, w.baseline.get(), r.baseline_wall_s, slam.get()});
+  if (w.baseline) r.baseline = comparePlain(mapper.map(), w.baseline->grid());
+  writeMapOutputs(dir, mapper, *source,
+                  {job.input, r.wall_s, r.outcome, w.baseline.get(), r.baseline_wall_s,
+                   r.baseline.value_or(PlainComparison{}), slam.get()});
   if (job.frames_every > 0) writeTimelapse(dir, w.frames_dir);
   stopIfCancelled(job);  // a signal while the files were written: keep the previous set
   stage.commit();
@@ -205,7 +206,6 @@ MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   r.source_stats = source->stats();
   r.scan_matching = mapper.scanMatching();
   r.scan_match_counts = mapper.scanMatchCounts();
-  if (w.baseline) r.baseline = comparePlain(mapper.map(), w.baseline->grid());
   if (slam) {
     r.slam = slam->slam->stats();
     r.slam_wall_s = slam->wall_s;

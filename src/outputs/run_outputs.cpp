@@ -60,8 +60,7 @@ Json peopleSummary(const PersonTracker& people) {
 }
 
 // What a plain MRPT grid of the same scans holds that S does not, and the other way round.
-Json baselineSummary(const DynamicGridMap& m, const PlainGrid& plain) {
-  const PlainComparison c = comparePlain(m, plain.grid());
+Json baselineSummary(const PlainComparison& c) {
   return {{"note", "cells, each S cell against a plain MRPT grid built from the same scans"},
           {"plain_occupied_static_free", c.plain_occupied_static_free},
           {"static_occupied_plain_not", c.static_occupied_plain_not},
@@ -197,7 +196,7 @@ Json summary(const Mapper& mapper, const ScanSource& source, const OutputInfo& i
             {"people", peopleSummary(mapper.people())}};
   if (mapper.scanMatching()) j["scan_matching"] = scanMatchSummary(mapper.scanMatchCounts());
   if (info.slam) j["slam"] = slamSummary(*info.slam);
-  if (info.baseline) j["mrpt_baseline"] = baselineSummary(m, *info.baseline);
+  if (info.baseline) j["mrpt_baseline"] = baselineSummary(info.baseline_cells);
   j["timing"] = timingSummary(c, info);
   return j;
 }

@@ -19,6 +19,7 @@ struct OutputInfo {
   /// and drawn as mrpt_plain.png.
   const PlainGrid* baseline = nullptr;
   double baseline_wall_s = 0;  ///< time spent building it
+  PlainComparison baseline_cells;  ///< with baseline: comparePlain(S, it), for summary.json
   /// Pass 1 of pose source slam (nullptr: not used): its counts go to summary.json's "slam"
   /// block and its pose graph to graph.g2o.
   const SlamRun* slam = nullptr;
