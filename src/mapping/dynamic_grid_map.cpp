@@ -13,6 +13,19 @@
 #include "dynamap/mapping/polygon_fill.h"
 
 namespace dynamap {
+
+// Filled from MRPT's own table on first use of the library (MRPT builds it on its first call).
+const std::array<float, 256> DynamicGridMap::kCellProbability = [] {
+  std::array<float, 256> t{};
+  for (int v = -128; v < 128; ++v) t[static_cast<std::uint8_t>(v)] = l2p(static_cast<cellType>(v));
+  return t;
+}();
+const std::array<std::uint8_t, 256> DynamicGridMap::kCellGrey = [] {
+  std::array<std::uint8_t, 256> t{};
+  for (int v = -128; v < 128; ++v) t[static_cast<std::uint8_t>(v)] = l2p_255(static_cast<cellType>(v));
+  return t;
+}();
+
 namespace {
 
 using cellType = DynamicGridMap::cellType;
@@ -169,7 +182,7 @@ float DynamicGridMap::dynamicOccupancy(int cx, int cy) const {
   // D's own geometry: the same as S's but for a resize of S alone (layersAligned()).
   if (static_cast<unsigned>(cx) >= layer_size_x_ || static_cast<unsigned>(cy) >= layer_size_y_)
     return 0.5f;
-  return 1.0f - l2p(dyn_[cx + static_cast<std::size_t>(cy) * layer_size_x_]);
+  return 1.0f - cellProbability(dyn_[cx + static_cast<std::size_t>(cy) * layer_size_x_]);
 }
 
 float DynamicGridMap::staticOccupancy(int cx, int cy) const {

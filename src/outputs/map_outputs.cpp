@@ -114,7 +114,7 @@ void writeRosMap(const DynamicGridMap& map, const std::string& dir, const std::s
       const unsigned cy = sy - 1 - r;  // PGM's first row is the map's top (largest y)
       for (unsigned cx = 0; cx < sx; ++cx) {
         row[cx] = static_cast<char>(
-            DynamicGridMap::l2p_255(map.getRawMap()[cx + static_cast<std::size_t>(cy) * sx]));
+            DynamicGridMap::cellGrey(map.getRawMap()[cx + static_cast<std::size_t>(cy) * sx]));
       }
       out.write(row.data(), static_cast<std::streamsize>(row.size()));
     }

@@ -17,15 +17,8 @@ struct Bgr {
   std::uint8_t b, g, r;
 };
 
-inline void put(CImage& img, int x, int y, Bgr c) {
-  auto* p = img.ptrLine<std::uint8_t>(static_cast<unsigned>(y)) + 3 * x;
-  p[0] = c.b;
-  p[1] = c.g;
-  p[2] = c.r;
-}
-
 inline std::uint8_t grey(const mrpt::maps::COccupancyGridMap2D& map, std::size_t i) {
-  return DynamicGridMap::l2p_255(map.getRawMap()[i]);
+  return DynamicGridMap::cellGrey(map.getRawMap()[i]);
 }
 
 // Fills an image of the cells in `view`, colour from a cell's linear index.
@@ -34,13 +27,20 @@ CImage paintCells(const DynamicGridMap& map, const View& view, ColourOf colour) 
   const std::size_t sx = map.getSizeX();
   const int scale = view.scale, w = view.cx1 - view.cx0, h = view.cy1 - view.cy0;
   CImage img(w * scale, h * scale, mrpt::img::CH_RGB);
+  std::vector<Bgr> cells(static_cast<std::size_t>(std::max(w, 0)));
   for (int cy = view.cy0; cy < view.cy1; ++cy) {
+    for (int cx = view.cx0; cx < view.cx1; ++cx)
+      cells[cx - view.cx0] = colour(cx + static_cast<std::size_t>(cy) * sx);
+    // Each image row through one pointer: MRPT checks the image on every ptrLine call.
     const int row0 = (view.cy1 - 1 - cy) * scale;
-    for (int cx = view.cx0; cx < view.cx1; ++cx) {
-      const Bgr c = colour(cx + static_cast<std::size_t>(cy) * sx);
-      const int col0 = (cx - view.cx0) * scale;
-      for (int dy = 0; dy < scale; ++dy) {
-        for (int dx = 0; dx < scale; ++dx) put(img, col0 + dx, row0 + dy, c);
+    for (int dy = 0; dy < scale; ++dy) {
+      std::uint8_t* p = img.ptrLine<std::uint8_t>(static_cast<unsigned>(row0 + dy));
+      for (const Bgr& c : cells) {
+        for (int dx = 0; dx < scale; ++dx, p += 3) {
+          p[0] = c.b;
+          p[1] = c.g;
+          p[2] = c.r;
+        }
       }
     }
   }
@@ -86,7 +86,7 @@ CImage renderStaticOn(const mrpt::maps::COccupancyGridMap2D& grid,
 CImage renderDynamic(const DynamicGridMap& map) {
   const auto& d = map.dynamicRaw();
   return paintCells(map, wholeGrid(map), [&](std::size_t i) {
-    const float p = 1.0f - DynamicGridMap::l2p(d[i]);
+    const float p = 1.0f - DynamicGridMap::cellProbability(d[i]);
     if (p > 0.5f) {
       // White at 0.5 to deep red at 1.
       const float f = std::min(1.0f, (p - 0.5f) * 2.0f);
@@ -408,7 +408,7 @@ CImage paintChangeCells(const DynamicGridMap& map, const View& view,
     if (tag[i] == 1) return colour(kRemoved);
     if (tag[i] == 2) return colour(kAdded);
     const std::int8_t prior = on_grid[i];
-    const std::uint8_t g = prior != 0 ? DynamicGridMap::l2p_255(prior) : grey(map, i);
+    const std::uint8_t g = prior != 0 ? DynamicGridMap::cellGrey(prior) : grey(map, i);
     return Bgr{g, g, g};
   });
 }

@@ -105,7 +105,11 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   /// P(occupied) of S at a cell (1 - getCell()); 0.5 outside the grid.
   float staticOccupancy(int cx, int cy) const;
   /// staticOccupancy() of a cell of the grid whose raw value (getRawMap()) is `v`.
-  static float staticOccupancyOfValue(cellType v) { return 1.0f - l2p(v); }
+  static float staticOccupancyOfValue(cellType v) { return 1.0f - cellProbability(v); }
+  /// MRPT's l2p and l2p_255 of a raw cell value, from tables of all 256 values: MRPT's own pass
+  /// through a function call per cell, and a picture or a pass over the grid converts millions.
+  static float cellProbability(cellType v) { return kCellProbability[static_cast<std::uint8_t>(v)]; }
+  static std::uint8_t cellGrey(cellType v) { return kCellGrey[static_cast<std::uint8_t>(v)]; }
   /// S's state that conditions the model: Free when P(occ) < free_threshold.
   bool isStaticFree(int cx, int cy) const {
     if (static_cast<unsigned>(cx) >= m_size_x || static_cast<unsigned>(cy) >= m_size_y)
@@ -162,6 +166,9 @@ class DynamicGridMap : public mrpt::maps::COccupancyGridMap2D {
   cellType objectThresholdCell() const { return object_cell_; }
 
  private:
+  static const std::array<float, 256> kCellProbability;      // by the value's bits as uint8
+  static const std::array<std::uint8_t, 256> kCellGrey;
+
   bool internal_insertObservation(
       const mrpt::obs::CObservation& obs,
       const std::optional<const mrpt::poses::CPose3D>& robotPose = std::nullopt) override;
