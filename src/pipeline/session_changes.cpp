@@ -210,7 +210,8 @@ void SessionChanges::objectChanges(const ObjectTracker& tracker, std::vector<Cha
     rows.push_back(r);
   }
   for (ChangeRow& v : vacated) {  // an object of the prior's S, gone: it has no id
-    if (v.kind.empty()) continue;
+    // Seen through but not yet free: where an object of its size went, never alone a change.
+    if (v.kind.empty() || v.kind == "vacated_seen_through") continue;
     v.kind = "object_gone";
     v.cells = 0;
     rows.push_back(v);
@@ -337,8 +338,10 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
     if (row.size > objects_.max_size && static_cast<int>(row.cells) >= options_.structure_min_cells)
       found.push_back(row);
   }
+  std::vector<std::uint8_t> taken(added.size(), 0);  // cells of the regions reported below
   for (const Region& r : regionsOf(removed, sx, sy)) {
     if (static_cast<int>(r.cells.size()) < options_.structure_min_cells) continue;
+    for (const auto& [x, y] : r.cells) taken[x + static_cast<std::size_t>(y) * sx] = 1;
     ChangeRow row = rowOf(r, "structure_removed", map);
     if (row.size <= objects_.max_size) {  // an object's size: a place an object left
       // Its place and size as the tracker fits them: the removed cells are the arc the
@@ -357,8 +360,44 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
       found.push_back(row);
     }
   }
+  seenThrough(map, on_grid, taken, vacated);
   numberByKind(found);
   rows.insert(rows.end(), found.begin(), found.end());
+}
+
+void SessionChanges::seenThrough(const DynamicGridMap& map, const std::vector<std::int8_t>& prior,
+                                 const std::vector<std::uint8_t>& taken,
+                                 std::vector<ChangeRow>& vacated) const {
+  const int sx = static_cast<int>(map.getSizeX()), sy = static_cast<int>(map.getSizeY());
+  const double res = map.getResolution();
+  const int ox = globalOrigin(map.getXMin(), res), oy = globalOrigin(map.getYMin(), res);
+  // Space behind a surface is never seen while the surface stands: a cell the prior never saw
+  // (its raw value still 0) that this session sees free lies where something no longer is.
+  const auto behind = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < sx && y < sy && prior[x + static_cast<std::size_t>(y) * sx] == 0 &&
+           map.isStaticFree(x, y);
+  };
+  std::vector<std::uint8_t> through(taken.size(), 0);
+  for (int y = 0; y < sy; ++y) {
+    for (int x = 0; x < sx; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * sx + x;
+      through[i] = !taken[i] &&
+                   DynamicGridMap::staticOccupancyOfValue(prior[i]) > options_.removed_occupancy &&
+                   map.staticOccupancy(x, y) <= options_.removed_occupancy && near(x, y, 1, behind);
+    }
+  }
+  for (const Region& r : regionsOf(through, sx, sy)) {
+    if (static_cast<int>(r.cells.size()) < options_.structure_min_cells) continue;
+    std::vector<CellXY> global;
+    for (const auto& [x, y] : r.cells) global.push_back({x + ox, y + oy});
+    const ShapeEstimate shape = estimateShape(global, res, objects_);
+    if (shape.size > objects_.max_size || onTablePlace(shape.cx, shape.cy)) continue;
+    ChangeRow row = rowOf(r, "vacated_seen_through", map);
+    row.from_x = shape.cx;
+    row.from_y = shape.cy;
+    row.size = shape.size;
+    vacated.push_back(row);
+  }
 }
 
 SessionChanges::GridChanges SessionChanges::gridChanges(const DynamicGridMap& map) const {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <vector>
 
@@ -314,7 +315,7 @@ TEST_F(Sessions, AStartTheMapCannotTellApartIsAnErrorWithTheCandidates) {
 }
 
 // The bundled multi-session worlds: three sessions each, each later one started elsewhere with
-// eleven changes made before it (objects the table holds and objects of S moved, new and gone
+// ten or eleven changes made before it (objects the table holds and objects of S moved, new and gone
 // objects, walls added and removed, an added wall removed again). Mapped in order on
 // ground-truth poses and scored by eval --sessions: every change found under the right id,
 // nothing false.
@@ -340,18 +341,17 @@ TEST_P(SessionWorlds, EverySessionReportsEveryChangeAndNoOther) {
                           "/m2 " + d + "/m3",
                       &out),
             0);
-  for (const char* session : {"session 2", "session 3"}) {
-    EXPECT_NE(out.find(std::string(session) +
-                       ": 11 changes, 11 found, 0 under a wrong id, 0 misplaced, 0 missed; "
-                       "0 false changes"),
-              std::string::npos)
-        << out;
+  for (const char* session : {"session 2", "session 3"}) {  // as many found as there are
+    const std::regex all(std::string(session) +
+                         ": (1[0-9]) changes, \\1 found, 0 under a wrong id, 0 misplaced, 0 "
+                         "missed; 0 false changes");
+    EXPECT_TRUE(std::regex_search(out, all)) << out;
   }
   EXPECT_TRUE(std::filesystem::exists(d + "/m3/changes_score.json"));
 }
 
 INSTANTIATE_TEST_SUITE_P(Bundled, SessionWorlds,
-                         ::testing::Values("offices", "warehouse", "atrium"));
+                         ::testing::Values("offices", "warehouse", "atrium", "clinic"));
 
 }  // namespace
 }  // namespace dynamap

@@ -1,8 +1,11 @@
 // Mapper::continueFrom: a session continued from a prior state keeps the prior's S and its
 // table even when no scan of the new log could be mapped, and its change report is then empty.
-// SessionChanges::priorOnGrid: the prior's S on a grid grown from it, or laid elsewhere.
+// SessionChanges::priorOnGrid: the prior's S on a grid grown from it, or laid elsewhere; and the
+// places of the prior's S an object left that gridChanges finds.
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "dynamap/pipeline/mapper.h"
 #include "dynamap/pipeline/session_changes.h"
@@ -72,6 +75,61 @@ TEST(SessionContinue, ThePriorOnTheMapsGridIsThePriorCellAtEachCentre) {
   const int finer = expectPriorOnGridIsPriorCell(map, changes);
   EXPECT_GE(finer, 1);
   EXPECT_LE(finer, 4);
+}
+
+// A 4 x 4 m prior, free but for the half of a 0.6 m object's outline facing -x (sure
+// occupied), with what lies inside and behind it never seen; the map starts as that prior.
+struct SeenThroughScene {
+  SessionState prior;
+  DynamicGridMap map;
+  std::vector<std::pair<int, int>> arc, inside;
+  SeenThroughScene() {
+    prior.resolution = 0.05;
+    prior.size_x = prior.size_y = 80;
+    prior.static_cells.assign(6400, 100);  // surely free
+    for (int y = 0; y < 80; ++y) {
+      for (int x = 0; x < 80; ++x) {
+        const double cx = (x + 0.5) * 0.05 - 2.0, cy = (y + 0.5) * 0.05 - 2.0;
+        const double d = std::hypot(cx, cy);
+        std::int8_t& v = prior.static_cells[x + 80 * y];
+        if (d <= 0.3 && d >= 0.25 && cx < 0) arc.push_back({x, y}), v = -100;
+        if (d < 0.25 || (cx >= 0 && std::abs(cy) < 0.3)) inside.push_back({x, y}), v = 0;
+      }
+    }
+    map.loadStatic(0, 0, 0.05, 80, 80, prior.static_cells);
+  }
+  std::vector<ChangeRow> vacated() const {
+    return SessionChanges(prior, ChangeOptions{}, ObjectOptions{}).gridChanges(map).vacated;
+  }
+};
+
+TEST(SessionChangesGrid, APlaceSeenThroughButNotYetFreeIsWhereAnObjectWent) {
+  SeenThroughScene scene;
+  EXPECT_TRUE(scene.vacated().empty());  // nothing changed
+  for (const auto& [x, y] : scene.arc) scene.map.setCell(x, y, 0.4f);  // P(occ) 0.6: unsure
+  EXPECT_TRUE(scene.vacated().empty());  // no longer sure, but nothing seen behind it
+  for (const auto& [x, y] : scene.inside) scene.map.setCell(x, y, 0.95f);  // seen free
+  const std::vector<ChangeRow> v = scene.vacated();
+  ASSERT_EQ(v.size(), 1u);
+  EXPECT_EQ(v[0].kind, "vacated_seen_through");
+  EXPECT_NEAR(v[0].from_x, 2.0, 0.05);
+  EXPECT_NEAR(v[0].from_y, 2.0, 0.05);
+  EXPECT_NEAR(v[0].size, 0.6, 0.1);
+}
+
+TEST(SessionChangesGrid, AnOutlineStillSureIsNoPlaceLeftWhateverIsSeenBehindIt) {
+  SeenThroughScene scene;
+  for (const auto& [x, y] : scene.inside) scene.map.setCell(x, y, 0.95f);
+  EXPECT_TRUE(scene.vacated().empty());
+}
+
+TEST(SessionChangesGrid, AnOutlineSeenFreeIsAPlaceLeftOnceNotTwice) {
+  SeenThroughScene scene;
+  for (const auto& [x, y] : scene.arc) scene.map.setCell(x, y, 0.97f);  // free: removed
+  for (const auto& [x, y] : scene.inside) scene.map.setCell(x, y, 0.95f);
+  const std::vector<ChangeRow> v = scene.vacated();
+  ASSERT_EQ(v.size(), 1u);
+  EXPECT_EQ(v[0].kind, "vacated");
 }
 
 TEST(SessionContinue, APriorOfAnotherResolutionDoesNotFit) {

@@ -13,7 +13,9 @@
 //    from its place in the prior (which, if the prior held it present, gone_views scans saw
 //    empty, more than saw it occupied); or an object new to the table whose size (within [objects]
 //    size_tolerance) is that of a place the prior's S held occupied and S now holds free (an
-//    object that had never moved before: the paper's S holds it), at most [objects]
+//    object that had never moved before: the paper's S holds it), or holds no longer surely
+//    occupied beside space the prior never saw and this session sees free (seen through: a
+//    place glimpsed, not yet free; never alone reported gone), at most [objects]
 //    far_match_distance away. object_new: an object new to
 //    the table, present at the session's end, that came from no such place. object_gone: a
 //    carried object present in the prior, not found this session, whose place at least
@@ -125,6 +127,12 @@ class SessionChanges {
   /// place an object of the prior's S left: into `vacated`.
   void structureChanges(const DynamicGridMap& map, std::vector<ChangeRow>& rows,
                         std::vector<ChangeRow>& vacated) const;
+  /// Places of an object's size the prior's S held surely occupied, no longer sure now (not
+  /// yet free), beside space the prior never saw and this session sees free: seen through,
+  /// so no longer standing there. Into `vacated` (kind vacated_seen_through), outside the
+  /// cells `taken` by the removed regions already found; `prior` is priorOnGrid(map).
+  void seenThrough(const DynamicGridMap& map, const std::vector<std::int8_t>& prior,
+                   const std::vector<std::uint8_t>& taken, std::vector<ChangeRow>& vacated) const;
 
   ChangeOptions options_;
   ObjectOptions objects_;
