@@ -59,12 +59,19 @@ double pointTerms(const LikelihoodField& field, const std::vector<mrpt::math::TP
 
 }  // namespace
 
-FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
-                      const mrpt::poses::CPose2D& guess, double window_m, double window_rad,
-                      double step_rad, double separation_m, double ambiguity_ratio) {
-  FieldMatch best;
-  best.pose = guess;
-  if (pts.empty() || field.empty()) return best;
+namespace {
+
+// The poses of a window search that score at least `ratio` times the best (the best among
+// them), as offsets from the guess in cells and angle steps: branch and bound over the field's
+// coarse level, blocks in order of their bound until none can come near the best.
+struct Candidate {
+  double sum;
+  int turn, dx, dy;
+};
+std::vector<Candidate> searchNearBest(const LikelihoodField& field,
+                                      const std::vector<mrpt::math::TPoint2D>& pts,
+                                      const mrpt::poses::CPose2D& guess, double window_m,
+                                      double window_rad, double step_rad, double ratio) {
   constexpr int K = LikelihoodField::kCoarse;
   const double res = field.resolution();
   const int shift = static_cast<int>(std::floor(window_m / res + 1e-9));
@@ -85,21 +92,35 @@ FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math
   std::sort(blocks.begin(), blocks.end());
   // Level 2: the blocks in order of their bound, until no block can beat the best (or come
   // near it: the runner-up must be found too).
-  std::vector<std::tuple<double, int, int, int>> good;  // (score, turn, dx, dy)
+  std::vector<Candidate> good;
   double top = 0;
   for (const auto& [neg_bound, t, bx, by] : blocks) {
-    if (-neg_bound <= ambiguity_ratio * top) break;
+    if (-neg_bound <= ratio * top) break;
     const auto& cx = cxs[t + turns];
     const auto& cy = cys[t + turns];
     for (int dy = by; dy < by + K && dy <= shift; ++dy) {
       for (int dx = bx; dx < bx + K && dx <= shift; ++dx) {
         const double s = sumAt(field, cx, cy, dx, dy);
-        if (s < ambiguity_ratio * top) continue;
-        good.emplace_back(s, t, dx, dy);
+        if (s < ratio * top) continue;
+        good.push_back({s, t, dx, dy});
         top = std::max(top, s);
       }
     }
   }
+  return good;
+}
+
+}  // namespace
+
+FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
+                      const mrpt::poses::CPose2D& guess, double window_m, double window_rad,
+                      double step_rad, double separation_m, double ambiguity_ratio) {
+  FieldMatch best;
+  best.pose = guess;
+  if (pts.empty() || field.empty()) return best;
+  const double res = field.resolution();
+  const std::vector<Candidate> good =
+      searchNearBest(field, pts, guess, window_m, window_rad, step_rad, ambiguity_ratio);
   const double n = static_cast<double>(pts.size());
   int bt = 0, bx = 0, by = 0;
   double bs = -1;
@@ -118,6 +139,38 @@ FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math
     }
   }
   return best;
+}
+
+std::vector<FieldMatch> searchPlaces(const LikelihoodField& field,
+                                     const std::vector<mrpt::math::TPoint2D>& pts,
+                                     const mrpt::poses::CPose2D& guess, double window_m,
+                                     double window_rad, double step_rad, double separation_m,
+                                     double ratio, std::size_t max_places) {
+  std::vector<FieldMatch> places;
+  if (pts.empty() || field.empty()) return places;
+  std::vector<Candidate> good =
+      searchNearBest(field, pts, guess, window_m, window_rad, step_rad, ratio);
+  // Best first; ties in the order searched.
+  std::stable_sort(good.begin(), good.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.sum > b.sum; });
+  const double res = field.resolution(), n = static_cast<double>(pts.size());
+  const double sep_cells = separation_m / res, sep_rad = 5.0 * M_PI / 180.0;
+  std::vector<const Candidate*> kept;
+  for (const Candidate& c : good) {
+    if (c.sum < ratio * good.front().sum || kept.size() == max_places) break;
+    const bool near = std::any_of(kept.begin(), kept.end(), [&](const Candidate* k) {
+      // Headings round the circle: a window of +-180 degrees holds the half turn twice.
+      const double turn = mrpt::math::wrapToPi((c.turn - k->turn) * step_rad);
+      return std::hypot(c.dx - k->dx, c.dy - k->dy) <= sep_cells && std::abs(turn) <= sep_rad;
+    });
+    if (near) continue;
+    kept.push_back(&c);
+    FieldMatch m;
+    m.pose = {guess.x() + c.dx * res, guess.y() + c.dy * res, guess.phi() + c.turn * step_rad};
+    m.score = c.sum / n;
+    places.push_back(m);
+  }
+  return places;
 }
 
 FieldMatch refine(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,

@@ -19,6 +19,7 @@ constexpr double kFineStep = 0.25 * M_PI / 180.0;
 constexpr std::size_t kMaxPoints = 400;
 // Two places are one within these (searchWide's own separation of a runner-up: 1 m, 5 degrees).
 constexpr double kSeparationM = 1.0, kSeparationRad = 5.0 * M_PI / 180.0;
+constexpr std::size_t kMaxPlaces = 8;  // places the coarse search offers (a hall's symmetries)
 
 // A copy of `map` with cells `factor` times wider: occupied where any of its cells is, free where
 // every observed one is free, unknown where none was observed.
@@ -75,7 +76,10 @@ GlobalPlacement placeInMap(const mrpt::maps::COccupancyGridMap2D& map,
   if (coarse.empty()) return out;
   const mrpt::poses::CPose2D centre(0.5 * (map.getXMin() + map.getXMax()),
                                     0.5 * (map.getYMin() + map.getYMax()), 0.0);
-  const FieldMatch c = searchWide(coarse, pts, centre, 0.5 * side + cres, M_PI, kCoarseStep, 1.0, 0.9);
+  const std::vector<FieldMatch> coarse_places = searchPlaces(
+      coarse, pts, centre, 0.5 * side + cres, M_PI, kCoarseStep, kSeparationM, 0.9, kMaxPlaces);
+  if (coarse_places.empty()) return out;
+  const FieldMatch& c = coarse_places.front();
   out.coarse_score = c.score;
   // The map's own resolution, within a coarse cell and step of each answer: the coarse field
   // blurs what tells two similar places apart, the fine one keeps it.
@@ -92,17 +96,20 @@ GlobalPlacement placeInMap(const mrpt::maps::COccupancyGridMap2D& map,
     const FieldMatch f = searchWide(fine, few, best.pose, 0.3, 3 * M_PI / 180, kFineStep, 1.0, 1.0);
     out.pose = refine(fine, few, f.pose, f.pose, 0, 0, 30).pose;
   }
-  if (c.runner_up > 0) {
-    const FieldMatch next = sharpen(c.runner_up_pose);
-    // Sharpened onto the best itself, it was the best's blur, not a second place.
-    const bool same = std::hypot(next.pose.x() - best.pose.x(), next.pose.y() - best.pose.y()) <
-                          kSeparationM &&
-                      std::abs(mrpt::math::wrapToPi(next.pose.phi() - best.pose.phi())) <
-                          kSeparationRad;
-    if (!same) {
+  out.places.push_back({out.pose, out.score});
+  for (std::size_t k = 1; k < coarse_places.size(); ++k) {
+    const FieldMatch next = sharpen(coarse_places[k].pose);
+    // Sharpened onto a place already found, it was that place's blur, not another place.
+    const bool same = std::any_of(out.places.begin(), out.places.end(), [&](const auto& p) {
+      return std::hypot(next.pose.x() - p.first.x(), next.pose.y() - p.first.y()) < kSeparationM &&
+             std::abs(mrpt::math::wrapToPi(next.pose.phi() - p.first.phi())) < kSeparationRad;
+    });
+    if (same) continue;
+    if (out.places.size() == 1) {  // the coarse search's runner-up
       out.runner_up = next.score;
       out.runner_up_pose = next.pose;
     }
+    out.places.push_back({next.pose, next.score});
   }
   return out;
 }

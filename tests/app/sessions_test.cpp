@@ -314,6 +314,34 @@ TEST_F(Sessions, AStartTheMapCannotTellApartIsAnErrorWithTheCandidates) {
   EXPECT_NE(out.find("give --initial-pose"), std::string::npos);
 }
 
+// The offices' third session starts in a room whose first 4 m fit two places of the second
+// session's map alike; followed along the log, the scans keep fitting one of them: the right one.
+TEST(SessionStart, TwoPlacesThatFitTheFirstMetresAreToldApartAlongTheLog) {
+  const std::string d = test::tempDir("sessions_follow");
+  ASSERT_EQ(test::run(kExe + " simulate --scenario " + std::string(DYNAMAP_SOURCE_DIR) +
+                      "/config/sessions/offices.ini --out " + d + "/sim"),
+            0);
+  ASSERT_EQ(test::run(kExe + " map --input " + d + "/sim/offices.rawlog --poses ground_truth " +
+                      "--no-baseline --out " + d + "/m1"),
+            0);
+  ASSERT_EQ(test::run(kExe + " map --input " + d + "/sim/offices.s2.rawlog --poses ground_truth " +
+                      "--no-baseline --prior " + d + "/m1 --out " + d + "/m2"),
+            0);
+  std::string out;
+  ASSERT_EQ(test::run(kExe + " map --input " + d + "/sim/offices.s3.rawlog --poses odometry " +
+                          "--no-baseline --prior " + d + "/m2 --out " + d + "/m3",
+                      &out),
+            0)
+      << out;
+  double x = 0, y = 0, phi = 0;
+  const auto at = out.find("the log starts at ");
+  ASSERT_NE(at, std::string::npos) << out;
+  std::istringstream(out.substr(at + 18)) >> x >> y >> phi;
+  EXPECT_NEAR(x, -5.5, 0.05);  // its first true pose: -5.5 0.3, facing +y
+  EXPECT_NEAR(y, 0.3, 0.05);
+  EXPECT_NEAR(phi, M_PI / 2, 1.0 * M_PI / 180);
+}
+
 // The bundled multi-session worlds: three sessions each, each later one started elsewhere with
 // ten or eleven changes made before it (objects the table holds and objects of S moved, new and gone
 // objects, walls added and removed, an added wall removed again). Mapped in order on

@@ -1,9 +1,11 @@
 // The pose graph (MRPT's sparse LM behind PoseGraph), its gate on loop closures, the likelihood
-// field's branch and bound, and Slam on synthetic rooms.
+// field's branch and bound (one pose, every place near the best), and Slam on synthetic rooms.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include <mrpt/math/wrap2pi.h>
 
 #include "../test_util.h"
 #include "dynamap/base/ini.h"
@@ -132,6 +134,42 @@ TEST(FieldMatcher, BranchAndBoundFindsAKnownOffset) {
   EXPECT_NEAR(m.pose.x(), at.x(), 0.03);
   EXPECT_NEAR(m.pose.y(), at.y(), 0.03);
   EXPECT_NEAR(m.pose.phi(), at.phi(), 0.5 * M_PI / 180);
+}
+
+// A room symmetric under a half turn: its scan fits where it was taken and at the image of that
+// place; searchPlaces names both, best first as searchWide's best and runner-up, and no place twice.
+TEST(FieldMatcher, EveryPlaceNearTheBestIsFoundOnce) {
+  mrpt::maps::COccupancyGridMap2D grid(-6, 6, -6, 6, 0.05f);
+  const CPose2D at(1.0, 0.5, 0.3), image(-1.0, -0.5, 0.3 - M_PI);
+  const auto scan = test::makeScan(test::roomRanges(-3, 3, -2, 2, at, 361, 2 * M_PI * 359 / 360),
+                                   2 * M_PI * 359 / 360);
+  grid.insertObservation(*scan, mrpt::poses::CPose3D(at));
+  const LikelihoodField field = LikelihoodField::fromGrid(grid, 0.65, 0.05);
+  const auto pts = hitPoints(makeRangeData(*scan, 30, 0.01), 2);
+  const CPose2D centre(0, 0, 0.3);
+  const double step = 2 * M_PI / 180;
+  const std::vector<FieldMatch> places =
+      searchPlaces(field, pts, centre, 2.0, M_PI, step, 1.0, 0.9, 8);
+  ASSERT_GE(places.size(), 2u);
+  const auto near = [](const CPose2D& a, const CPose2D& b) {
+    return std::hypot(a.x() - b.x(), a.y() - b.y()) < 0.1 &&
+           std::abs(mrpt::math::wrapToPi(a.phi() - b.phi())) < 3 * M_PI / 180;
+  };
+  EXPECT_TRUE((near(places[0].pose, at) && near(places[1].pose, image)) ||
+              (near(places[0].pose, image) && near(places[1].pose, at)));
+  for (std::size_t i = 0; i < places.size(); ++i) {
+    EXPECT_GE(places[i].score, 0.9 * places[0].score);
+    for (std::size_t j = 0; j < i; ++j) {
+      EXPECT_FALSE(std::hypot(places[i].pose.x() - places[j].pose.x(),
+                              places[i].pose.y() - places[j].pose.y()) <= 1.0 &&
+                   std::abs(mrpt::math::wrapToPi(places[i].pose.phi() - places[j].pose.phi())) <=
+                       5 * M_PI / 180);
+    }
+  }
+  const FieldMatch wide = searchWide(field, pts, centre, 2.0, M_PI, step, 1.0, 0.9);
+  EXPECT_EQ(wide.pose, places[0].pose);
+  EXPECT_EQ(wide.runner_up_pose, places[1].pose);
+  EXPECT_EQ(wide.runner_up, places[1].score);
 }
 
 TEST(SlamOptions, BadValuesAreErrorsNamingTheKey) {

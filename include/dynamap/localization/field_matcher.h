@@ -35,6 +35,14 @@ FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math
                       const mrpt::poses::CPose2D& guess, double window_m, double window_rad,
                       double step_rad, double separation_m, double ambiguity_ratio);
 
+/// Every distinct place of the same window search scoring at least `ratio` times the best, best
+/// first, at most `max_places`: a pose within `separation_m` and 5 degrees of a better one is
+/// that one's. Scores as searchWide's; no runner_up.
+std::vector<FieldMatch> searchPlaces(const LikelihoodField& field,
+                                     const std::vector<mrpt::math::TPoint2D>& pts,
+                                     const mrpt::poses::CPose2D& guess, double window_m,
+                                     double window_rad, double step_rad, double separation_m,
+                                     double ratio, std::size_t max_places);
 /// Levenberg-Marquardt on sum (1 - field)^2 over the points plus a prior pulling towards
 /// `prior` (weights per metre and per radian; 0: none), from `start`. `information` of the
 /// result is the points' J^T J at the end (the prior excluded).

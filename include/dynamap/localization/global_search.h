@@ -13,6 +13,7 @@
 #include <mrpt/math/TPoint2D.h>
 #include <mrpt/poses/CPose2D.h>
 
+#include <utility>
 #include <vector>
 
 namespace dynamap {
@@ -26,6 +27,12 @@ struct GlobalPlacement {
   /// points fit. 0 when the coarse search found none within 0.9 of the best.
   double runner_up = 0;
   mrpt::poses::CPose2D runner_up_pose;
+  /// Every distinct place the coarse search found within 0.9 of its best (at most 8), sharpened
+  /// as the best was, with its fine score: the best first, the runner-up second when there is one.
+  std::vector<std::pair<mrpt::poses::CPose2D, double>> places;
+  /// [m] of the log's path along which the places were followed to tell them apart (0: not
+  /// needed); score and runner_up are then the mean fits of the best two along it.
+  double followed_m = 0;
 };
 
 /// Places `pts` (points in one frame, e.g. the first scan's robot frame) in `map` (its cells with

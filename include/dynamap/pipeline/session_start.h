@@ -17,10 +17,14 @@ namespace dynamap {
 
 /// Reads the first scans of `source` (the scans of its first 4 m of path, at most 100, each
 /// worked out by `insertion`), places them in the prior's S (`prior_map`), and refines the pose
-/// on the scans of the first metre alone. Throws InputError naming `log` when the search finds
-/// no unique answer: the points fit nowhere well (mean field value below 0.35), or a second
-/// place at least 1 m or 5 degrees away fits almost as well (0.9 of the best); the message gives
-/// both places, for --initial-pose.
+/// on the scans of the first metre alone. When other places at least 1 m or 5 degrees away fit
+/// almost as well (0.9 of the best; a symmetric building), each of them (at most 8) is followed
+/// along the log's next scans, up to 25 m of path and 500 scans, as scan matching would (each
+/// scan searched within 0.25 m and 3 degrees of where the one before and odometry put it, on the
+/// prior's likelihood field), and the mean fit along the way decides. Throws InputError naming
+/// `log` when there is no unique answer: the points fit nowhere well (mean field value below
+/// 0.35), or the second place fits almost as well as the best (0.9 of it), followed or not; the
+/// message gives both places, for --initial-pose. Cost: a second or two; following, as much again.
 GlobalPlacement locateStart(ScanSource& source, const mrpt::maps::COccupancyGridMap2D& prior_map,
                             const InsertionOptions& insertion, const std::string& log);
 
