@@ -289,6 +289,23 @@ ChangeRow rowOf(const Region& r, const char* kind, const DynamicGridMap& map) {
   return row;
 }
 
+// A region of an object's size where an object stood: its place and size as the tracker fits
+// them (the region is the arc the earlier session saw, whose centroid lies off the object's
+// centre), in a row of `kind`.
+ChangeRow placeRow(const Region& r, const char* kind, const DynamicGridMap& map,
+                   const ObjectOptions& objects) {
+  const double res = map.getResolution();
+  const int ox = globalOrigin(map.getXMin(), res), oy = globalOrigin(map.getYMin(), res);
+  std::vector<CellXY> global;
+  for (const auto& [x, y] : r.cells) global.push_back({x + ox, y + oy});
+  const ShapeEstimate shape = estimateShape(global, res, objects);
+  ChangeRow row = rowOf(r, kind, map);
+  row.from_x = shape.cx;
+  row.from_y = shape.cy;
+  row.size = shape.size;
+  return row;
+}
+
 // Largest first within a kind, numbered 1, 2, ... per kind.
 void numberByKind(std::vector<ChangeRow>& found) {
   std::stable_sort(found.begin(), found.end(), [](const ChangeRow& a, const ChangeRow& b) {
@@ -342,23 +359,16 @@ void SessionChanges::structureChanges(const DynamicGridMap& map, std::vector<Cha
   for (const Region& r : regionsOf(removed, sx, sy)) {
     if (static_cast<int>(r.cells.size()) < options_.structure_min_cells) continue;
     for (const auto& [x, y] : r.cells) taken[x + static_cast<std::size_t>(y) * sx] = 1;
-    ChangeRow row = rowOf(r, "structure_removed", map);
-    if (row.size <= objects_.max_size) {  // an object's size: a place an object left
-      // Its place and size as the tracker fits them: the removed cells are the arc the
-      // earlier session saw, whose centroid lies off the object's centre.
-      std::vector<CellXY> global;
-      for (const auto& [x, y] : r.cells) global.push_back({x + ox, y + oy});
-      const ShapeEstimate shape = estimateShape(global, res, objects_);
-      row.from_x = shape.cx;
-      row.from_y = shape.cy;
-      row.size = shape.size;
-      row.kind = "vacated";
-      // Where the prior's table had an object, S's cells are where it stood before it was
-      // seen moving: that object's business (carriedChanges), no other object's origin.
-      if (!onTablePlace(row.from_x, row.from_y)) vacated.push_back(row);
-    } else {
+    const ChangeRow row = rowOf(r, "structure_removed", map);
+    if (row.size > objects_.max_size) {
       found.push_back(row);
+      continue;
     }
+    // An object's size: a place an object left. Where the prior's table had an object, S's
+    // cells are where it stood before it was seen moving: that object's business
+    // (carriedChanges), no other object's origin.
+    const ChangeRow place = placeRow(r, "vacated", map, objects_);
+    if (!onTablePlace(place.from_x, place.from_y)) vacated.push_back(place);
   }
   seenThrough(map, on_grid, taken, vacated);
   numberByKind(found);
@@ -369,8 +379,6 @@ void SessionChanges::seenThrough(const DynamicGridMap& map, const std::vector<st
                                  const std::vector<std::uint8_t>& taken,
                                  std::vector<ChangeRow>& vacated) const {
   const int sx = static_cast<int>(map.getSizeX()), sy = static_cast<int>(map.getSizeY());
-  const double res = map.getResolution();
-  const int ox = globalOrigin(map.getXMin(), res), oy = globalOrigin(map.getYMin(), res);
   // Space behind a surface is never seen while the surface stands: a cell the prior never saw
   // (its raw value still 0) that this session sees free lies where something no longer is.
   const auto behind = [&](int x, int y) {
@@ -388,15 +396,9 @@ void SessionChanges::seenThrough(const DynamicGridMap& map, const std::vector<st
   }
   for (const Region& r : regionsOf(through, sx, sy)) {
     if (static_cast<int>(r.cells.size()) < options_.structure_min_cells) continue;
-    std::vector<CellXY> global;
-    for (const auto& [x, y] : r.cells) global.push_back({x + ox, y + oy});
-    const ShapeEstimate shape = estimateShape(global, res, objects_);
-    if (shape.size > objects_.max_size || onTablePlace(shape.cx, shape.cy)) continue;
-    ChangeRow row = rowOf(r, "vacated_seen_through", map);
-    row.from_x = shape.cx;
-    row.from_y = shape.cy;
-    row.size = shape.size;
-    vacated.push_back(row);
+    const ChangeRow place = placeRow(r, "vacated_seen_through", map, objects_);
+    if (place.size <= objects_.max_size && !onTablePlace(place.from_x, place.from_y))
+      vacated.push_back(place);
   }
 }
 
