@@ -270,6 +270,17 @@ TEST_F(Sessions, ErrorsNameTheOptionOrTheFile) {
       << out;
 }
 
+// The start a run printed ("the log starts at X Y PHI"): within 0.05 m and 1 degree of (x, y, phi).
+void expectStart(const std::string& out, double x, double y, double phi) {
+  const auto at = out.find("the log starts at ");
+  ASSERT_NE(at, std::string::npos) << out;
+  double fx = 0, fy = 0, fphi = 0;
+  std::istringstream(out.substr(at + 18)) >> fx >> fy >> fphi;
+  EXPECT_NEAR(fx, x, 0.05);
+  EXPECT_NEAR(fy, y, 0.05);
+  EXPECT_NEAR(fphi, phi, 1.0 * M_PI / 180);
+}
+
 // Without --initial-pose, on odometry: the first scans are searched for in the whole prior map
 // (the first session's log again, its frame not used: only its poses relative to each other).
 TEST_F(Sessions, TheStartOfALogOnOdometryIsFoundInThePriorMap) {
@@ -279,14 +290,8 @@ TEST_F(Sessions, TheStartOfALogOnOdometryIsFoundInThePriorMap) {
                       &out),
             0)
       << out;
-  double x = 0, y = 0, phi = 0;
-  const auto at = out.find("the log starts at ");
-  ASSERT_NE(at, std::string::npos) << out;
-  std::istringstream(out.substr(at + 18)) >> x >> y >> phi;
   // Session 1 starts at (-1.5, -1.5) facing east (towards the second waypoint).
-  EXPECT_NEAR(x, -1.5, 0.05);
-  EXPECT_NEAR(y, -1.5, 0.05);
-  EXPECT_NEAR(phi, 0.0, 1.0 * M_PI / 180);
+  expectStart(out, -1.5, -1.5, 0.0);
   EXPECT_EQ(readChanges(dir_ + "/m5/changes.csv").size(), 0u);
 }
 
@@ -333,13 +338,7 @@ TEST(SessionStart, TwoPlacesThatFitTheFirstMetresAreToldApartAlongTheLog) {
                       &out),
             0)
       << out;
-  double x = 0, y = 0, phi = 0;
-  const auto at = out.find("the log starts at ");
-  ASSERT_NE(at, std::string::npos) << out;
-  std::istringstream(out.substr(at + 18)) >> x >> y >> phi;
-  EXPECT_NEAR(x, -5.5, 0.05);  // its first true pose: -5.5 0.3, facing +y
-  EXPECT_NEAR(y, 0.3, 0.05);
-  EXPECT_NEAR(phi, M_PI / 2, 1.0 * M_PI / 180);
+  expectStart(out, -5.5, 0.3, M_PI / 2);  // its first true pose, facing +y
 }
 
 // The bundled multi-session worlds: three sessions each, each later one started elsewhere with
