@@ -20,6 +20,11 @@ constexpr double kFollowM = 25.0;
 constexpr std::size_t kFollowScans = 500, kFollowStride = 4;
 constexpr double kFollowWindowM = 0.25, kFollowWindowRad = 3.0 * M_PI / 180.0;
 constexpr double kFollowStepRad = 0.5 * M_PI / 180.0;
+// One place beats another when, of the scans one of them fits clearly better (mean field value
+// higher by kClearly), it takes at least kMinWins and a share a fair coin would reach with
+// probability below kChance: the difference is the building's, not noise.
+constexpr double kClearly = 0.1, kChance = 1e-3;
+constexpr int kMinWins = 20;
 
 std::string poseText(const mrpt::poses::CPose2D& p) {
   char buf[96];
@@ -67,12 +72,12 @@ std::vector<mrpt::math::TPoint2D> cloudOf(const std::vector<FirstScan>& scans,
   return pts;
 }
 
-// How well the scans keep fitting the map when followed from `start` (the first scan's pose in
-// it) as scan matching would: each from where the one before lay and odometry's step since,
-// searched for nearby and refined. The mean fit over the scans.
-double follow(const LikelihoodField& field, const std::vector<FirstScan>& scans,
-              const mrpt::poses::CPose2D& start) {
-  double sum = 0;
+// How well each scan fits the map when followed from `start` (the first scan's pose in it) as
+// scan matching would: each from where the one before lay and odometry's step since, searched
+// for nearby and refined; where nothing fits, odometry's guess is kept.
+std::vector<double> follow(const LikelihoodField& field, const std::vector<FirstScan>& scans,
+                           const mrpt::poses::CPose2D& start) {
+  std::vector<double> fits(scans.size(), 0.0);
   mrpt::poses::CPose2D pose = start;
   std::vector<mrpt::math::TPoint2D> pts;
   for (std::size_t n = 0; n < scans.size(); ++n) {
@@ -84,29 +89,71 @@ double follow(const LikelihoodField& field, const std::vector<FirstScan>& scans,
     const FieldMatch f =
         searchWide(field, pts, pose, kFollowWindowM, kFollowWindowRad, kFollowStepRad, 1.0, 1.0);
     const FieldMatch r = refine(field, pts, f.pose, f.pose, 0, 0, 10);
-    pose = r.pose;
-    sum += r.score;
+    if (r.score >= kMinScore) pose = r.pose;
+    fits[n] = r.score;
   }
-  return scans.empty() ? 0.0 : sum / static_cast<double>(scans.size());
+  return fits;
 }
 
-// The places that fit the first metres almost as well as the best, followed along the log: the
-// best and the runner-up of `g` become the two that fit it best there.
-void followPlaces(const mrpt::maps::COccupancyGridMap2D& map, const std::vector<FirstScan>& scans,
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (const double x : v) s += x;
+  return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+}
+
+// Whether place `a` fits better than `b` beyond chance, scan by scan (a sign test): of the
+// scans one of them fits clearly better (by kClearly), `a` must take at least kMinWins, and so
+// many that equal places would take as many with probability below kChance.
+bool beats(const std::vector<double>& a, const std::vector<double>& b) {
+  int wins = 0, losses = 0;
+  for (std::size_t n = 0; n < a.size(); ++n) {
+    wins += a[n] > b[n] + kClearly;
+    losses += b[n] > a[n] + kClearly;
+  }
+  if (wins < kMinWins) return false;
+  // P(at least `wins` of wins + losses fair coin flips), summed in logs.
+  const int n = wins + losses;
+  double tail = 0;
+  for (int k = wins; k <= n; ++k) {
+    tail += std::exp(std::lgamma(n + 1.0) - std::lgamma(k + 1.0) - std::lgamma(n - k + 1.0) -
+                     n * std::log(2.0));
+  }
+  return tail < kChance;
+}
+
+// The places that fit the first metres almost as well as the best, followed along the log. The
+// one that beats every other becomes `g`'s best (true); else false, `g` holding the two places of
+// best mean fit. Either way score and runner_up become mean fits along the log.
+bool followPlaces(const mrpt::maps::COccupancyGridMap2D& map, const std::vector<FirstScan>& scans,
                   GlobalPlacement& g) {
   const LikelihoodField field =
       LikelihoodField::fromGrid(map, 0.5, std::max(0.05, static_cast<double>(map.getResolution())));
-  std::vector<std::pair<double, mrpt::poses::CPose2D>> fits;  // (mean fit, start)
+  std::vector<std::pair<mrpt::poses::CPose2D, std::vector<double>>> followed;
   for (const auto& [pose, score] : g.places) {
-    if (score >= kAmbiguity * g.places.front().second) fits.push_back({follow(field, scans, pose), pose});
+    if (score >= kAmbiguity * g.places.front().second)
+      followed.push_back({pose, follow(field, scans, pose)});
   }
-  std::stable_sort(fits.begin(), fits.end(),
-                   [](const auto& a, const auto& b) { return a.first > b.first; });
-  g.pose = fits[0].second;
-  g.score = fits[0].first;
-  g.runner_up_pose = fits[1].second;
-  g.runner_up = fits[1].first;
   g.followed_m = scans.back().travel;
+  std::stable_sort(followed.begin(), followed.end(), [](const auto& a, const auto& b) {
+    return mean(a.second) > mean(b.second);
+  });
+  for (std::size_t i = 0; i < followed.size(); ++i) {
+    bool all = true;
+    for (std::size_t j = 0; j < followed.size() && all; ++j)
+      all = j == i || beats(followed[i].second, followed[j].second);
+    if (!all) continue;
+    const std::size_t next = i == 0 ? 1 : 0;  // the best of the others
+    g.pose = followed[i].first;
+    g.score = mean(followed[i].second);
+    g.runner_up_pose = followed[next].first;
+    g.runner_up = mean(followed[next].second);
+    return true;
+  }
+  g.pose = followed[0].first;
+  g.score = mean(followed[0].second);
+  g.runner_up_pose = followed[1].first;
+  g.runner_up = mean(followed[1].second);
+  return false;
 }
 
 }  // namespace
@@ -119,8 +166,9 @@ GlobalPlacement locateStart(ScanSource& source, const mrpt::maps::COccupancyGrid
   GlobalPlacement g = placeInMap(prior_map, pts, head);
   // Several places fit the first metres (a symmetric building): the wrong ones stop fitting
   // where the building's parts differ.
+  bool told_apart = false;
   if (g.score >= kMinScore && g.runner_up > kAmbiguity * g.score && scans.back().travel > kTravelM)
-    followPlaces(prior_map, scans, g);
+    told_apart = followPlaces(prior_map, scans, g);
   char what[200];
   std::snprintf(what, sizeof what, "best %s (fit %.2f), next %s (fit %.2f)%s",
                 poseText(g.pose).c_str(), g.score, poseText(g.runner_up_pose).c_str(),
@@ -129,7 +177,7 @@ GlobalPlacement locateStart(ScanSource& source, const mrpt::maps::COccupancyGrid
     throw InputError(log + ": its first scans fit nowhere in the prior session's map (" + what +
                      "); give --initial-pose \"X Y PHI\"");
   }
-  if (g.runner_up > kAmbiguity * g.score) {
+  if (!told_apart && g.runner_up > kAmbiguity * g.score) {
     throw InputError(log + ": its first scans fit two places of the prior session's map (" +
                      what + "); give --initial-pose \"X Y PHI\"");
   }

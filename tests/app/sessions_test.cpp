@@ -278,7 +278,7 @@ void expectStart(const std::string& out, double x, double y, double phi) {
   std::istringstream(out.substr(at + 18)) >> fx >> fy >> fphi;
   EXPECT_NEAR(fx, x, 0.05);
   EXPECT_NEAR(fy, y, 0.05);
-  EXPECT_NEAR(fphi, phi, 1.0 * M_PI / 180);
+  EXPECT_NEAR(std::remainder(fphi - phi, 2 * M_PI), 0.0, 1.0 * M_PI / 180);
 }
 
 // Without --initial-pose, on odometry: the first scans are searched for in the whole prior map
@@ -319,27 +319,42 @@ TEST_F(Sessions, AStartTheMapCannotTellApartIsAnErrorWithTheCandidates) {
   EXPECT_NE(out.find("give --initial-pose"), std::string::npos);
 }
 
-// The offices' third session starts in a room whose first 4 m fit two places of the second
-// session's map alike; followed along the log, the scans keep fitting one of them: the right one.
-TEST(SessionStart, TwoPlacesThatFitTheFirstMetresAreToldApartAlongTheLog) {
-  const std::string d = test::tempDir("sessions_follow");
+// Later sessions that start where the first 4 m fit several places of the map before (the
+// offices' third: two rooms alike; the atrium's second: a hall symmetric under a half turn):
+// followed along the log, the scans keep fitting one place clearly better than every other.
+struct FollowedStart {
+  const char* world;
+  int session;
+  double x, y, phi;  // its first true pose
+};
+class SessionStarts : public ::testing::TestWithParam<FollowedStart> {};
+
+TEST_P(SessionStarts, PlacesThatFitTheFirstMetresAlikeAreToldApartAlongTheLog) {
+  const FollowedStart c = GetParam();
+  const std::string w = c.world, d = test::tempDir(std::string("sessions_follow_") + c.world);
   ASSERT_EQ(test::run(kExe + " simulate --scenario " + std::string(DYNAMAP_SOURCE_DIR) +
-                      "/config/sessions/offices.ini --out " + d + "/sim"),
+                      "/config/sessions/" + w + ".ini --out " + d + "/sim"),
             0);
-  ASSERT_EQ(test::run(kExe + " map --input " + d + "/sim/offices.rawlog --poses ground_truth " +
-                      "--no-baseline --out " + d + "/m1"),
-            0);
-  ASSERT_EQ(test::run(kExe + " map --input " + d + "/sim/offices.s2.rawlog --poses ground_truth " +
-                      "--no-baseline --prior " + d + "/m1 --out " + d + "/m2"),
-            0);
+  for (int k = 1; k < c.session; ++k) {  // the sessions before, on ground truth
+    std::string cmd = kExe + " map --input " + d + "/sim/" + w +
+                      (k > 1 ? ".s" + std::to_string(k) : std::string()) + ".rawlog --poses ground_truth --no-baseline --out " + d + "/m" +
+                      std::to_string(k);
+    if (k > 1) cmd += " --prior " + d + "/m" + std::to_string(k - 1);
+    ASSERT_EQ(test::run(cmd), 0) << cmd;
+  }
   std::string out;
-  ASSERT_EQ(test::run(kExe + " map --input " + d + "/sim/offices.s3.rawlog --poses odometry " +
-                          "--no-baseline --prior " + d + "/m2 --out " + d + "/m3",
+  ASSERT_EQ(test::run(kExe + " map --input " + d + "/sim/" + w + ".s" + std::to_string(c.session) +
+                          ".rawlog --poses odometry --no-baseline --prior " + d + "/m" +
+                          std::to_string(c.session - 1) + " --out " + d + "/next",
                       &out),
             0)
       << out;
-  expectStart(out, -5.5, 0.3, M_PI / 2);  // its first true pose, facing +y
+  expectStart(out, c.x, c.y, c.phi);
 }
+
+INSTANTIATE_TEST_SUITE_P(Bundled, SessionStarts,
+                         ::testing::Values(FollowedStart{"offices", 3, -5.5, 0.3, M_PI / 2},
+                                           FollowedStart{"atrium", 2, 7.5, 4.0, M_PI}));
 
 // The bundled multi-session worlds: three sessions each, each later one started elsewhere with
 // ten or eleven changes made before it (objects the table holds and objects of S moved, new and gone

@@ -21,10 +21,13 @@ namespace dynamap {
 /// almost as well (0.9 of the best; a symmetric building), each of them (at most 8) is followed
 /// along the log's next scans, up to 25 m of path and 500 scans, as scan matching would (each
 /// scan searched within 0.25 m and 3 degrees of where the one before and odometry put it, on the
-/// prior's likelihood field), and the mean fit along the way decides. Throws InputError naming
-/// `log` when there is no unique answer: the points fit nowhere well (mean field value below
-/// 0.35), or the second place fits almost as well as the best (0.9 of it), followed or not; the
-/// message gives both places, for --initial-pose. Cost: a second or two; following, as much again.
+/// prior's likelihood field; where nothing fits, odometry's step is kept). A place wins when it
+/// beats every other scan by scan: of the scans where one of the two fits clearly better (mean
+/// field value higher by 0.1), it takes at least 20 and so many that two equal places would
+/// with probability below 0.001 (a sign test). Throws InputError naming `log` when there is no
+/// unique answer: the points fit nowhere well (mean field value below 0.35), or a second place
+/// fits almost as well (0.9 of the best) and following tells none apart; the message gives the
+/// two best places, for --initial-pose. Cost: a second or two; following, as much again.
 GlobalPlacement locateStart(ScanSource& source, const mrpt::maps::COccupancyGridMap2D& prior_map,
                             const InsertionOptions& insertion, const std::string& log);
 
