@@ -133,6 +133,7 @@ bool followPlaces(const mrpt::maps::COccupancyGridMap2D& map, const std::vector<
     if (score >= kAmbiguity * g.places.front().second)
       followed.push_back({pose, follow(field, scans, pose)});
   }
+  if (followed.size() < 2) return false;  // the caller asks only when a second place is near
   g.followed_m = scans.back().travel;
   std::stable_sort(followed.begin(), followed.end(), [](const auto& a, const auto& b) {
     return mean(a.second) > mean(b.second);
