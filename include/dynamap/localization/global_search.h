@@ -31,7 +31,8 @@ struct GlobalPlacement {
   /// as the best was, with its fine score: the best first, the runner-up second when there is one.
   std::vector<std::pair<mrpt::poses::CPose2D, double>> places;
   /// [m] of the log's path along which the places were followed to tell them apart (0: not
-  /// needed); score and runner_up are then the mean fits of the best two along it.
+  /// needed); score and runner_up are then mean fits along it: of the place that won and the
+  /// best of the others, or, when none won, of the two best.
   double followed_m = 0;
 };
 
