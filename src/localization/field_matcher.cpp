@@ -63,7 +63,8 @@ namespace {
 
 // The poses of a window search that score at least `ratio` times the best (the best among
 // them), as offsets from the guess in cells and angle steps: branch and bound over the field's
-// coarse level, blocks in order of their bound until none can come near the best.
+// coarse level, blocks in order of their bound until none can come near the best, or reach
+// `floor` (a sum of field values: a caller who refuses any score below it).
 struct Candidate {
   double sum;
   int turn, dx, dy;
@@ -71,7 +72,8 @@ struct Candidate {
 std::vector<Candidate> searchNearBest(const LikelihoodField& field,
                                       const std::vector<mrpt::math::TPoint2D>& pts,
                                       const mrpt::poses::CPose2D& guess, double window_m,
-                                      double window_rad, double step_rad, double ratio) {
+                                      double window_rad, double step_rad, double ratio,
+                                      double floor = 0) {
   constexpr int K = LikelihoodField::kCoarse;
   const double res = field.resolution();
   const int shift = static_cast<int>(std::floor(window_m / res + 1e-9));
@@ -95,7 +97,7 @@ std::vector<Candidate> searchNearBest(const LikelihoodField& field,
   std::vector<Candidate> good;
   double top = 0;
   for (const auto& [neg_bound, t, bx, by] : blocks) {
-    if (-neg_bound <= ratio * top) break;
+    if (-neg_bound <= ratio * top || -neg_bound < floor) break;
     const auto& cx = cxs[t + turns];
     const auto& cy = cys[t + turns];
     for (int dy = by; dy < by + K && dy <= shift; ++dy) {
@@ -114,14 +116,17 @@ std::vector<Candidate> searchNearBest(const LikelihoodField& field,
 
 FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
                       const mrpt::poses::CPose2D& guess, double window_m, double window_rad,
-                      double step_rad, double separation_m, double ambiguity_ratio) {
+                      double step_rad, double separation_m, double ambiguity_ratio,
+                      double min_score) {
   FieldMatch best;
   best.pose = guess;
   if (pts.empty() || field.empty()) return best;
   const double res = field.resolution();
-  const std::vector<Candidate> good =
-      searchNearBest(field, pts, guess, window_m, window_rad, step_rad, ambiguity_ratio);
   const double n = static_cast<double>(pts.size());
+  // Below ratio x min_score no pose can be the best one accepted nor its runner-up.
+  const std::vector<Candidate> good = searchNearBest(field, pts, guess, window_m, window_rad,
+                                                     step_rad, ambiguity_ratio,
+                                                     ambiguity_ratio * min_score * n);
   int bt = 0, bx = 0, by = 0;
   double bs = -1;
   for (const auto& [s, t, dx, dy] : good) {

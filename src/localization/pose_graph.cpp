@@ -45,6 +45,11 @@ namespace {
 
 using Graph = mrpt::graphs::CNetworkOfPoses2DInf;
 
+/// The edges the gate may switch off: those of a search that can match the wrong place.
+bool gated(const PoseEdge& e) {
+  return e.kind == EdgeKind::LoopClosure || e.kind == EdgeKind::PriorMap;
+}
+
 Graph toMrpt(const std::vector<mrpt::poses::CPose2D>& poses, const std::vector<PoseEdge>& edges) {
   Graph g;
   g.root = 0;
@@ -164,12 +169,12 @@ OptimiseReport PoseGraph::optimise(int max_iterations, double loop_gate, int max
     // least half the worst residual go in one round.
     double worst = 0;
     for (const PoseEdge& e : edges_) {
-      if (e.active && e.kind == EdgeKind::LoopClosure) worst = std::max(worst, edgeError(e));
+      if (e.active && gated(e)) worst = std::max(worst, edgeError(e));
     }
     const double cut = std::max(loop_gate, 0.5 * worst);
     std::size_t rejected = 0;
     for (PoseEdge& e : edges_) {
-      if (e.active && e.kind == EdgeKind::LoopClosure && worst > loop_gate && edgeError(e) >= cut) {
+      if (e.active && gated(e) && worst > loop_gate && edgeError(e) >= cut) {
         e.active = false;
         ++rejected;
       }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ostream>
+#include <utility>
 
 #include "dynamap/base/angles.h"
 #include "dynamap/base/ini.h"
@@ -15,6 +16,8 @@ namespace dynamap {
 namespace {
 
 using O = SlamOptions;
+
+constexpr std::size_t kMaxTiePoints = 200;  // a tie search costs as its points
 
 // The submaps, the loop search's field and the edges' standard deviations.
 std::vector<Option<O>> graphRows() {
@@ -69,6 +72,10 @@ std::vector<Option<O>> loopRows() {
        "it grows by this per metre of path"},
       {"loop_max_window_deg", &O::loop_max_window_deg, Range::closed(0, 180), "deg",
        "the heading window's upper bound"},
+      {"tie_max_window_m", &O::tie_max_window_m, Range::closed(0, 50), "m",
+       "a search in the prior session's map (--prior): its window's upper bound"},
+      {"tie_max_window_deg", &O::tie_max_window_deg, Range::closed(0, 180), "deg",
+       "... and its heading window's"},
       {"loop_min_score", &O::loop_min_score, Range::closed(0, 1), "",
        "a loop closure's points' mean field value"},
       {"loop_ambiguity_ratio", &O::loop_ambiguity_ratio, Range::closed(0, 1), "",
@@ -129,6 +136,12 @@ void SlamOptions::validate(const std::string& source) const {
   if (loop_max_window_deg < loop_window_deg) {
     rejectValue(source, kSection, "loop_max_window_deg", "must be at least loop_window_deg");
   }
+  if (tie_max_window_m < loop_window_m) {
+    rejectValue(source, kSection, "tie_max_window_m", "must be at least loop_window_m");
+  }
+  if (tie_max_window_deg < loop_window_deg) {
+    rejectValue(source, kSection, "tie_max_window_deg", "must be at least loop_window_deg");
+  }
 }
 
 void SlamOptions::writeIni(std::ostream& out) const {
@@ -185,6 +198,14 @@ void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
   if (path_.back() - last_attempt_path_ >= o_.loop_every_m) {
     last_attempt_path_ = path_.back();
     searchLoops(pts);
+  }
+  if (prior_ && !pts.empty()) {
+    recent_.emplace_back(i, pts);
+    while (path_.back() - path_[recent_.front().first] > o_.submap_length_m) recent_.pop_front();
+    if (path_.back() - last_tie_attempt_ >= o_.loop_every_m) {
+      last_tie_attempt_ = path_.back();
+      tryTie(recentPoints());
+    }
   }
   if (pending_loops_ &&
       graph_.size() - nodes_at_last_optimise_ >= std::size_t(o_.optimise_every_nodes)) {
@@ -272,34 +293,85 @@ void Slam::searchLoops(const std::vector<mrpt::math::TPoint2D>& pts) {
   if (optimise_now) optimise();
 }
 
+bool Slam::searchPlace(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
+                       const mrpt::poses::CPose2D& guess, double uncertain_m, double max_m,
+                       double max_deg, std::size_t& proposed, std::size_t& ambiguous,
+                       mrpt::poses::CPose2D& found) const {
+  const double window = std::min(max_m, o_.loop_window_m + o_.loop_window_per_m * uncertain_m);
+  const double window_deg =
+      std::min(max_deg, o_.loop_window_deg + o_.loop_window_deg_per_m * uncertain_m);
+  const FieldMatch best =
+      searchWide(field, pts, guess, window, window_deg * kDegToRad, o_.angle_step_deg * kDegToRad,
+                 o_.loop_ambiguity_m, o_.loop_ambiguity_ratio, o_.loop_min_score);
+  if (best.score < o_.loop_min_score) return false;
+  ++proposed;
+  if (best.runner_up >= o_.loop_ambiguity_ratio * best.score) {
+    ++ambiguous;
+    return false;
+  }
+  const FieldMatch fine = refine(field, pts, best.pose, best.pose, 0.0, 0.0, 20);
+  if (fine.score < o_.loop_min_score) {
+    ++ambiguous;
+    return false;
+  }
+  found = fine.pose;
+  return true;
+}
+
 bool Slam::tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts,
                    double uncertain_m, double& moved_m) {
   ++stats_.loop_attempts;
   const std::size_t i = graph_.size() - 1;
   const mrpt::poses::CPose2D guess = graph_.pose(i) - graph_.pose(s.anchor());
-  const double window =
-      std::min(o_.loop_max_window_m, o_.loop_window_m + o_.loop_window_per_m * uncertain_m);
-  const double window_deg =
-      std::min(o_.loop_max_window_deg, o_.loop_window_deg + o_.loop_window_deg_per_m * uncertain_m);
-  const FieldMatch found =
-      searchWide(s.field(), pts, guess, window, window_deg * kDegToRad,
-                 o_.angle_step_deg * kDegToRad, o_.loop_ambiguity_m, o_.loop_ambiguity_ratio);
-  if (found.score < o_.loop_min_score) return false;
-  ++stats_.loops_proposed;
-  if (found.runner_up >= o_.loop_ambiguity_ratio * found.score) {
-    ++stats_.loops_ambiguous;
+  mrpt::poses::CPose2D found;
+  if (!searchPlace(s.field(), pts, guess, uncertain_m, o_.loop_max_window_m,
+                   o_.loop_max_window_deg, stats_.loops_proposed, stats_.loops_ambiguous, found)) {
     return false;
   }
-  const FieldMatch fine = refine(s.field(), pts, found.pose, found.pose, 0.0, 0.0, 20);
-  if (fine.score < o_.loop_min_score) {
-    ++stats_.loops_ambiguous;
-    return false;
-  }
-  moved_m = std::hypot(fine.pose.x() - guess.x(), fine.pose.y() - guess.y());
-  graph_.addEdge({s.anchor(), i, fine.pose,
+  moved_m = std::hypot(found.x() - guess.x(), found.y() - guess.y());
+  graph_.addEdge({s.anchor(), i, found,
                   diagonalInformation(o_.loop_sigma_m, o_.loop_sigma_deg * kDegToRad),
                   EdgeKind::LoopClosure});
   return true;
+}
+
+void Slam::tieTo(LikelihoodField prior) {
+  prior_ = std::make_unique<const LikelihoodField>(std::move(prior));
+}
+
+std::vector<mrpt::math::TPoint2D> Slam::recentPoints() const {
+  const mrpt::poses::CPose2D here = front_.back();
+  std::size_t n = 0;
+  for (const auto& r : recent_) n += r.second.size();
+  // At most kMaxTiePoints, evenly spaced through the scans: a search's cost grows with them.
+  const std::size_t stride = n / kMaxTiePoints + 1;
+  std::vector<mrpt::math::TPoint2D> out;
+  std::size_t k = 0;
+  for (const auto& [j, pts] : recent_) {
+    const mrpt::poses::CPose2D rel = front_[j] - here;
+    for (const auto& p : pts) {
+      if (k++ % stride == 0) out.push_back(rel + p);
+    }
+  }
+  return out;
+}
+
+void Slam::tryTie(const std::vector<mrpt::math::TPoint2D>& pts) {
+  ++stats_.ties_attempted;
+  const std::size_t i = graph_.size() - 1;
+  // The graph drifts between optimisations; the last tie says by how much, near here.
+  const mrpt::poses::CPose2D guess = prior_offset_ + graph_.pose(i);
+  mrpt::poses::CPose2D found;
+  if (!searchPlace(*prior_, pts, guess, path_.back() - last_tie_path_, o_.tie_max_window_m,
+                   o_.tie_max_window_deg, stats_.ties_proposed, stats_.ties_ambiguous, found)) {
+    return;
+  }
+  last_tie_path_ = path_.back();
+  prior_offset_ = found + (mrpt::poses::CPose2D() - graph_.pose(i));
+  graph_.addEdge({0, i, found - graph_.pose(0),
+                  diagonalInformation(o_.loop_sigma_m, o_.loop_sigma_deg * kDegToRad),
+                  EdgeKind::PriorMap});
+  pending_loops_ = true;
 }
 
 void Slam::optimise() {
@@ -310,6 +382,7 @@ void Slam::optimise() {
   stats_.final_error = r.converged ? r.final_error : r.initial_error;
   nodes_at_last_optimise_ = graph_.size();
   pending_loops_ = false;
+  if (r.converged) prior_offset_ = mrpt::poses::CPose2D();  // the graph holds the ties now
 }
 
 void Slam::finish() {
@@ -326,8 +399,13 @@ std::vector<mrpt::poses::CPose2D> Slam::poses() const {
 
 const SlamStats& Slam::stats() const {
   std::size_t accepted = 0;
-  for (const PoseEdge& e : graph_.edges()) accepted += e.kind == EdgeKind::LoopClosure && e.active;
+  std::size_t ties = 0;
+  for (const PoseEdge& e : graph_.edges()) {
+    accepted += e.kind == EdgeKind::LoopClosure && e.active;
+    ties += e.kind == EdgeKind::PriorMap && e.active;
+  }
   stats_.loops_accepted = accepted;
+  stats_.ties_accepted = ties;
   stats_.loops_rejected = stats_.loops_proposed - accepted;
   return stats_;
 }

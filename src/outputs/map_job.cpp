@@ -104,17 +104,21 @@ InputOptions inputOptions(const MapJob& job) {
   return input;
 }
 
-/// Pose source slam, pass 1: the whole trajectory, then `source` replaced by pass 2's (the log
-/// opened again, each scan's pose the optimised one) and `config` saying slam.
-std::unique_ptr<SlamRun> slamPass(const MapJob& job, MapConfig& config,
-                                  std::unique_ptr<ScanSource>& source) {
+/// Pose source slam, pass 1: the whole trajectory (tied to `prior`'s frame when given: an
+/// earlier session's S, `source` already moved to start where it was found there), then
+/// `source` replaced by pass 2's (the log opened again, each scan's pose the optimised one).
+std::unique_ptr<SlamRun> slamPass(const MapJob& job, const MapConfig& config,
+                                  std::unique_ptr<ScanSource>& source,
+                                  const mrpt::maps::COccupancyGridMap2D* prior) {
   if (job.on_pass) job.on_pass(1);
   ScanSource& first = *source;
-  auto run = std::make_unique<SlamRun>(estimateTrajectory(first, config, [&](std::size_t done) {
-    stopIfCancelled(job);
-    if (job.progress) job.progress(first.fractionRead(), done);
-  }));
-  config.poses = PoseSource::Slam;  // config.ini says what ran
+  auto run = std::make_unique<SlamRun>(estimateTrajectory(
+      first, config,
+      [&](std::size_t done) {
+        stopIfCancelled(job);
+        if (job.progress) job.progress(first.fractionRead(), done);
+      },
+      prior));
   InputOptions input = inputOptions(job);  // the log read again the same way
   input.poses = PoseSource::Slam;
   source = readAhead(
@@ -152,6 +156,15 @@ std::optional<SessionState> readPrior(const MapJob& job) {
   return readSessionState(job.prior, static_cast<std::uint64_t>(side * side));
 }
 
+/// `mapper` continuing the prior session; an error names the prior's file.
+void continuePrior(const MapJob& job, SessionState prior, Mapper& mapper) {
+  try {
+    mapper.continueFrom(std::move(prior));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(job.prior + ": the prior session's map does not fit this run: " + e.what());
+  }
+}
+
 // The run with every output written into `stage`, committed at the end.
 MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   const std::string& dir = stage.path();
@@ -162,20 +175,16 @@ MapJobResult runStaged(const MapJob& job, OutputStaging& stage) {
   // Read beside the mapping, on the second core: the same scans in the same order.
   auto source = readAhead(openScanSource(job.input, input));
   MapConfig config = job.config;
-  std::unique_ptr<SlamRun> slam;
-  if (usesSlam(config.poses, *source)) slam = slamPass(job, config, source);
+  const bool slam_pass = usesSlam(config.poses, *source);
+  if (slam_pass) config.poses = PoseSource::Slam;  // config.ini says what ran
   Mapper mapper(config);
-  if (prior) {
-    try {
-      mapper.continueFrom(std::move(*prior));
-    } catch (const std::invalid_argument& e) {
-      throw InputError(job.prior + ": the prior session's map does not fit this run: " +
-                       e.what());
-    }
-  }
+  if (prior) continuePrior(job, std::move(*prior), mapper);
   // Before the first scan the mapper's S is the prior's: the start is searched for there.
+  // Slam's pass 1 reads the log from there, and is tied to the prior's frame.
   const std::optional<GlobalPlacement> placed =
       startInPrior(job, input, config, prior ? &mapper.map() : nullptr, source);
+  std::unique_ptr<SlamRun> slam;
+  if (slam_pass) slam = slamPass(job, config, source, prior ? &mapper.map() : nullptr);
   Writers w(job, dir);
   const auto start = Clock::now();
   MapJobResult r;

@@ -94,7 +94,7 @@ Json odometryCheckSummary(const SlamRun& run) {
 // Pass 1 of pose source slam: what the front end matched, the loop closures, the optimiser.
 Json slamSummary(const SlamRun& run) {
   const SlamStats& s = run.slam->stats();
-  return {{"scans", s.scans},
+  Json j = {{"scans", s.scans},
           {"front_end_matched", s.matched},
           {"front_end_fallbacks", s.fallbacks},
           {"submaps", s.submaps},
@@ -113,6 +113,14 @@ Json slamSummary(const SlamRun& run) {
           {"poses", run.kept_odometry ? "odometry (it lays the scans onto each other better)"
                     : s.converged     ? "optimised"
                                       : "front end (the optimiser did not converge)"}};
+  if (s.ties_attempted > 0) {  // a session tied to its prior's map
+    j["prior_map_ties"] = {{"searches", s.ties_attempted},
+                           {"proposed", s.ties_proposed},
+                           {"accepted", s.ties_accepted},
+                           {"rejected", s.ties_proposed - s.ties_accepted},
+                           {"rejected_ambiguous", s.ties_ambiguous}};
+  }
+  return j;
 }
 
 // The only block that differs between identical runs: how long the passes took.

@@ -37,11 +37,16 @@ void OdometryCheck::decide(SlamRun& run) const {
 }
 
 SlamRun estimateTrajectory(ScanSource& source, const MapConfig& config,
-                           const std::function<void(std::size_t)>& on_scan) {
+                           const std::function<void(std::size_t)>& on_scan,
+                           const mrpt::maps::COccupancyGridMap2D* prior) {
   const auto start = std::chrono::steady_clock::now();
   SlamRun run;
   run.slam =
       std::make_unique<Slam>(config.slam, config.scan_matching, config.map, config.insertion);
+  if (prior) {
+    run.slam->tieTo(LikelihoodField::fromGrid(*prior, config.slam.occupied_threshold,
+                                              config.slam.field_sigma_m));
+  }
   std::optional<OdometryCheck> check;
   if (config.slam.keep_better_odometry) check.emplace();
   ScanRecord rec;

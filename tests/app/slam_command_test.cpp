@@ -228,6 +228,39 @@ TEST(SlamInput, OdometryThatStopsMidwayKeepsTheScansBeforeIt) {
   }
 }
 
+// A second session of the loop against the first's map (mapped on the truth): its trajectory
+// is tied to the prior's frame by scans matched there, so it lies on the truth without any
+// alignment; the same slam only moved to its start drifts away from it between loop closures.
+TEST(SlamTiedToPrior, ASessionsPosesLieInThePriorMapsFrame) {
+  const std::string dir = test::tempDir("slam-tie");
+  std::ofstream(dir + "/loop.ini") << scenario("loop", 6, 4, 4, 2, false, 130);
+  ASSERT_EQ(test::run(kExe + " simulate --scenario " + dir + "/loop.ini --out " + dir), 0);
+  const std::string log = dir + "/loop.rawlog", map = kExe + " map --no-baseline --input " + log;
+  ASSERT_EQ(test::run(map + " --poses ground_truth --out " + dir + "/prior"), 0);
+  fs::rename(dir + "/loop.gt.txt", dir + "/gt.txt");
+  const std::vector<TimedPose> truth = readPoseFile(dir + "/gt.txt");
+  ASSERT_FALSE(truth.empty());
+  const std::string start = " --initial-pose \"" + std::to_string(truth[0].x) + " " +
+                            std::to_string(truth[0].y) + " " +
+                            std::to_string(truth[0].phi) + "\"";
+  std::string out;
+  ASSERT_EQ(test::run(map + " --poses slam --prior " + dir + "/prior" + start + " --out " + dir +
+                          "/tied",
+                      &out),
+            0)
+      << out;
+  ASSERT_EQ(test::run(map + " --poses slam --out " + dir + "/alone"), 0);  // anchored below
+  const auto ties =
+      nlohmann::json::parse(test::readFile(dir + "/tied/summary.json"))["slam"]["prior_map_ties"];
+  EXPECT_GT(ties["accepted"].get<int>(), 20) << ties;
+  const TrajectoryError tied = trajectoryError(readPoseFile(dir + "/tied/poses.txt"), truth);
+  const TrajectoryError alone = trajectoryError(readPoseFile(dir + "/alone/poses.txt"), truth);
+  EXPECT_EQ(tied.matched, truth.size());
+  EXPECT_LT(tied.rmse_xy_m, 0.03);
+  EXPECT_LT(tied.max_xy_m, 0.08);
+  EXPECT_LT(tied.rmse_xy_m, 0.6 * alone.rmse_xy_m) << alone.rmse_xy_m;
+}
+
 TEST(Perturb, SameSeedSameBytesAndTheTruthBeside) {
   const std::string dir = test::tempDir("perturb");
   writeRoomLog(dir + "/room.rawlog", 60, 60);

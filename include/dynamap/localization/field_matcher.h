@@ -30,10 +30,13 @@ struct FieldMatch {
 
 /// The best pose within the window, exactly, by branch and bound over the field's coarse level,
 /// without a prior. Also finds the best score at least `separation_m` (or 5 deg) away from it,
-/// among poses scoring above `ambiguity_ratio` times the best.
+/// among poses scoring above `ambiguity_ratio` times the best. With `min_score` (a caller that
+/// refuses a best below it) the search stops early: a best found below it may be any pose
+/// scoring below it, and its runner_up is then not the best of the others.
 FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
                       const mrpt::poses::CPose2D& guess, double window_m, double window_rad,
-                      double step_rad, double separation_m, double ambiguity_ratio);
+                      double step_rad, double separation_m, double ambiguity_ratio,
+                      double min_score = 0);
 
 /// Every distinct place of the same window search scoring at least `ratio` times the best, best
 /// first, at most `max_places`: a pose within `separation_m` and 5 degrees of a better one is

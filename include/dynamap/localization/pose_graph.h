@@ -19,7 +19,9 @@
 
 namespace dynamap {
 
-enum class EdgeKind { Odometry, ScanMatch, LoopClosure };
+/// PriorMap: a scan matched in an earlier session's map, from node 0 (held at the start found
+/// there); gated as loop closures are, and like them the only edges that can be wrong.
+enum class EdgeKind { Odometry, ScanMatch, LoopClosure, PriorMap };
 
 struct PoseEdge {
   std::size_t from = 0, to = 0;

@@ -16,6 +16,15 @@
 // scores loop_min_score and no pose far from it scores nearly as well (loop_ambiguity_ratio: a
 // symmetric corridor is no evidence); the optimiser's gate rejects what is still inconsistent.
 //
+// Tied to a prior map (tieTo, a later session against an earlier one's S): the log's first pose
+// is the start found in the prior map's frame, and every loop_every_m of path the scan is
+// searched in the prior's likelihood field, as a loop closure is in a submap's (window growing
+// with the path since the last tie, loop_min_score, the ambiguity test), around where the last
+// tie put the trajectory; a tie is an edge from node 0 (held fixed at the start) to the scan, of
+// loop_sigma's weight, gated as loop closures are: a place the building changed at does not
+// drag the trajectory. Without ties (none accepted) the run is that of a first session moved to
+// the start.
+//
 // Cost: one small search per scan, a field rebuilt every refresh_scans scans, a branch and bound
 // per loop attempt, and an optimisation per optimise_every_nodes nodes with a new loop closure.
 // Deterministic: single-threaded, the same scans and odometry give the same poses bit for bit.
@@ -27,6 +36,7 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dynamap/localization/pose_graph.h"
@@ -67,6 +77,10 @@ struct SlamOptions {
   double loop_window_deg = 3.0;        ///< heading window right after a loop closure [0, 180]
   double loop_window_deg_per_m = 0.1;  ///< ... growing by this per metre of path [0, 10]
   double loop_max_window_deg = 10.0;   ///< ... up to this [0, 180]
+  // Ties to a prior map (tieTo): searched as loop closures are, but the window may grow larger:
+  // where the session leaves the prior's map, nothing but odometry holds the trajectory.
+  double tie_max_window_m = 3.0;     ///< a tie's window grows up to this [0, 50]
+  double tie_max_window_deg = 10.0;  ///< ... and its heading window up to this [0, 180]
   double loop_min_score = 0.55;        ///< a loop closure's points' mean field value [0, 1]
   double loop_ambiguity_ratio = 0.9;   ///< runner-up / best above this: ambiguous [0, 1]
   double loop_ambiguity_m = 0.4;       ///< runner-ups this far from the best count (0, 20]
@@ -102,6 +116,10 @@ struct SlamStats {
   std::size_t loops_proposed = 0;   ///< searches that found a pose scoring loop_min_score
   std::size_t loops_ambiguous = 0;  ///< ... dropped as ambiguous
   std::size_t loops_accepted = 0;   ///< loop edges in the final graph
+  std::size_t ties_attempted = 0;   ///< searches in the prior map (tieTo)
+  std::size_t ties_proposed = 0;    ///< ... that scored loop_min_score
+  std::size_t ties_ambiguous = 0;   ///< ... dropped as ambiguous
+  std::size_t ties_accepted = 0;    ///< prior-map edges in the final graph
   std::size_t loops_rejected = 0;   ///< proposed but ambiguous or rejected by the gate
   std::size_t optimisations = 0, iterations = 0;
   double final_error = 0;  ///< chi^2 of the graph after the last optimisation
@@ -116,6 +134,10 @@ class Slam {
        const InsertionOptions& insertion);
   ~Slam();
 
+  /// Ties the trajectory to a prior map's frame: `prior` is its S's likelihood field (built with
+  /// this run's occupied_threshold and field_sigma_m), and the odometry poses given to add() must
+  /// start at the start found in it. Call before the first add().
+  void tieTo(LikelihoodField prior);
   /// The next scan, taken at odometry pose `odometry`: `rd` is its makeRangeData() at the
   /// insertion options' range and tolerance, as the mapper works it out.
   void add(const mrpt::poses::CPose2D& odometry, const RangeData& rd);
@@ -135,6 +157,18 @@ class Slam {
   /// Whether a loop closure was added; `moved_m`: how far it lies from the pose's estimate.
   bool tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts, double uncertain_m,
                double& moved_m);
+  /// A prior-map edge to the last node, when the search finds one place.
+  void tryTie(const std::vector<mrpt::math::TPoint2D>& pts);
+  /// The hits of the scans of the last submap_length_m of path, in the last scan's frame (as
+  /// the front end laid them out): outdoors one scan holds too few to be placed alone.
+  std::vector<mrpt::math::TPoint2D> recentPoints() const;
+  /// The best place of `pts` within the window that `uncertain_m` of path opens around `guess`
+  /// in `field` (at most `max_m` and `max_deg` wide), sharpened; false (counted in `proposed`,
+  /// `ambiguous`) below loop_min_score or when another place scores nearly as well.
+  bool searchPlace(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
+                   const mrpt::poses::CPose2D& guess, double uncertain_m, double max_m,
+                   double max_deg, std::size_t& proposed, std::size_t& ambiguous,
+                   mrpt::poses::CPose2D& found) const;
   void optimise();
 
   SlamOptions o_;
@@ -152,6 +186,10 @@ class Slam {
   std::size_t nodes_at_last_optimise_ = 0;
   bool pending_loops_ = false;
   bool last_match_ok_ = false;
+  std::unique_ptr<const LikelihoodField> prior_;  // tieTo's
+  mrpt::poses::CPose2D prior_offset_;  // the prior's frame from the graph's, at the last tie
+  double last_tie_attempt_ = 0, last_tie_path_ = 0;
+  std::deque<std::pair<std::size_t, std::vector<mrpt::math::TPoint2D>>> recent_;  // node, hits
   mutable SlamStats stats_;
 };
 

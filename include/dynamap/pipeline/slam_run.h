@@ -56,9 +56,12 @@ bool usesSlam(PoseSource requested, const ScanSource& source);
 /// optimisation, with `config`'s [slam], [scan_matching] (the front end), [dynamic_map] and
 /// [insertion] (the submaps); then, with keep_better_odometry, the odometry instead of slam's
 /// poses when it lays the scans (as the mapper inserts them) onto each other better.
-/// `on_scan(done)` is called after each scan (progress).
+/// `on_scan(done)` is called after each scan (progress). With `prior` (an earlier session's S,
+/// the source's poses moved to start where the search found the log's start in it) the
+/// trajectory is tied to the prior's frame (Slam::tieTo).
 SlamRun estimateTrajectory(ScanSource& source, const MapConfig& config,
-                           const std::function<void(std::size_t)>& on_scan = {});
+                           const std::function<void(std::size_t)>& on_scan = {},
+                           const mrpt::maps::COccupancyGridMap2D* prior = nullptr);
 
 /// Pass 2's source: `inner` (the same log, opened again the same way) with each scan's pose
 /// replaced by pass 1's, in order. Ends where pass 1 ended.
