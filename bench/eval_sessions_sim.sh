@@ -4,9 +4,10 @@
 #
 # usage: bench/eval_sessions_sim.sh DYNAMAP OUT
 #
-# Twice per world: on ground-truth poses, and on scan matching (session 1 from its odometry,
-# each later session started at its first true pose with --initial-pose: the start search
-# refuses the symmetric worlds' starts, which is right, and is measured on the real logs).
+# Three times per world: on ground-truth poses, on scan matching and on slam (session 1 from its
+# odometry, each later session started at its first true pose with --initial-pose: the start
+# search refuses the symmetric worlds' starts, which is right, and is measured on the real logs;
+# slam's later sessions are tied to the prior's map).
 # The table goes to stdout and OUT/eval-sessions-sim.md.
 set -euo pipefail
 
@@ -39,5 +40,6 @@ run() {
     "$DYNAMAP" simulate --scenario "$ini" --out "$OUT/$w/sim" > /dev/null
     run "$w" ground_truth
     run "$w" scan_matching
+    run "$w" slam
   done
 } | tee "$OUT/eval-sessions-sim.md"
