@@ -201,7 +201,11 @@ void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
   }
   if (prior_ && !pts.empty()) {
     recent_.emplace_back(i, pts);
-    while (path_.back() - path_[recent_.front().first] > o_.submap_length_m) recent_.pop_front();
+    // As a submap: so much path or so many scans (a robot standing still adds no path).
+    while (path_.back() - path_[recent_.front().first] > o_.submap_length_m ||
+           recent_.size() > static_cast<std::size_t>(o_.submap_max_scans)) {
+      recent_.pop_front();
+    }
     if (path_.back() - last_tie_attempt_ >= o_.loop_every_m) {
       last_tie_attempt_ = path_.back();
       tryTie(recentPoints());

@@ -69,6 +69,24 @@ TEST(PoseGraph, AFalseLoopClosureIsRejectedAndDoesNotBendTheChain) {
   for (int i = 0; i <= 20; ++i) EXPECT_NEAR(g.pose(i).x(), i, 1e-6) << i;
 }
 
+// The same corridor tied to a prior map: a tie that agrees and one from a place the building
+// changed at (node 20 put 2 m back) are gated as loop closures are.
+TEST(PoseGraph, AFalseTieToAPriorMapIsRejectedLikeALoopClosure) {
+  PoseGraph g;
+  for (int i = 0; i <= 20; ++i) g.addNode({double(i), 0, 0});
+  for (std::size_t i = 0; i < 20; ++i) {
+    g.addEdge({i, i + 1, {1, 0, 0}, info(0.02, 0.005), EdgeKind::ScanMatch});
+  }
+  g.addEdge({0, 10, {10, 0, 0}, info(0.05, 0.02), EdgeKind::PriorMap});
+  g.addEdge({0, 20, {18, 0, 0}, info(0.05, 0.02), EdgeKind::PriorMap});
+  const OptimiseReport r = g.optimise(100, 16.0, 3);
+  ASSERT_TRUE(r.converged);
+  EXPECT_EQ(r.rejected, 1u);
+  EXPECT_TRUE(g.edges()[20].active);
+  EXPECT_FALSE(g.edges()[21].active);
+  for (int i = 0; i <= 20; ++i) EXPECT_NEAR(g.pose(i).x(), i, 1e-6) << i;
+}
+
 // A chain of 6 nodes 1 m apart and a loop closure from node 5 back to node 1: node 0 lies 1 m
 // from node 5 through the graph (across the closure), node 3 2 m; a closure the gate has
 // switched off is no short cut.
@@ -185,6 +203,14 @@ TEST(SlamOptions, BadValuesAreErrorsNamingTheKey) {
                ConfigError);
   EXPECT_THROW(SlamOptions().load(IniFile::fromText("[slam]\nsubmap_max_scans = 1\n", "x.ini")),
                ConfigError);
+  // A tie's window may not be capped below where every window starts.
+  try {
+    SlamOptions().load(IniFile::fromText("[slam]\ntie_max_window_m = 0.1\n", "x.ini"));
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("[slam] tie_max_window_m"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
