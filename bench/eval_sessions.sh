@@ -12,7 +12,10 @@
 # (user + system) of B with and without the prior gives the cost of a continued session.
 # Then B's start is searched for: `dynamap perturb` gives B drifting odometry (seeds 1-3), and
 # B is mapped on it against A without --initial-pose; the start found is compared with B's first
-# corrected pose (position and heading error), or the search's refusal is shown.
+# corrected pose (position and heading error), or the search's refusal is shown. Last, B on its
+# drifting odometry is mapped with --poses slam against A (tied to A's map; --initial-pose at
+# its first corrected pose where the search refuses) and its poses are scored against B's
+# corrected poses, paired by timestamp, in A's frame with no alignment (RMSE and worst).
 # The tables go to stdout and OUT/eval-sessions.md.
 set -euo pipefail
 
@@ -29,6 +32,12 @@ cpu() {
   "$@" > /dev/null 2>&1 || true
   times > "$OUT/.times"  # not through a pipe: that would be a subshell of its own
   tail -1 "$OUT/.times" | awk '{ s = 0; for (i = 1; i <= 2; ++i) { split($i, p, /[ms]/); s += p[1] * 60 + p[2] } printf "%.2f", s }'
+}
+# Position RMSE and worst error [m] of poses.txt $2 against `t x y phi` truth $1, paired by time.
+poseError() {
+  awk 'NR == FNR { if ($1 !~ /^%/) { x[$1] = $2; y[$1] = $3 } next }
+       $1 !~ /^%/ && ($1 in x) { d2 = ($2 - x[$1])^2 + ($3 - y[$1])^2; s += d2; n++; if (d2 > w) w = d2 }
+       END { if (n) printf "%.3f / %.3f", sqrt(s / n), sqrt(w); else printf "no pose paired" }' "$1" "$2"
 }
 # The count of one kind of change in a changes.csv.
 kind() { awk -F, -v k="$1" '$1 == k { n++ } END { print n + 0 }' "$2"; }
@@ -73,6 +82,22 @@ kind() { awk -F, -v k="$1" '$1 == k { n++ } END { print n + 0 }' "$2"; }
       else
         echo "| $log | $seed | refused: ${said#*: } | $truth | |"
       fi
+    done
+  done
+  echo
+  echo "| log | seed | B on slam tied to A: position RMSE / worst [m] | ties accepted / searches |"
+  echo "|---|---|---|---|"
+  for log in $LOGS; do
+    d="$OUT/$log"
+    [ -f "$d/b.log" ] || continue
+    for seed in 1 2 3; do
+      args=(map --input "$d/drift-$seed/odometry.rawlog" --poses slam --prior "$d/a" --no-baseline
+        --out "$d/slam-$seed")
+      [ -f "$d/start-$seed/poses.txt" ] || args+=(--initial-pose "$(awk '!/^%/ { print $2, $3, $4; exit }' "$d/drift-$seed/gt.txt")")
+      "$DYNAMAP" "${args[@]}" > /dev/null 2>&1 || true
+      ties=$(grep -A3 '"prior_map_ties"' "$d/slam-$seed/summary.json" 2>/dev/null |
+        awk -F'[:,]' '/"accepted"/ { a = $2 } /"searches"/ { s = $2 } END { gsub(/ /, "", a); gsub(/ /, "", s); print a " / " s }')
+      echo "| $log | $seed | $(poseError "$d/drift-$seed/gt.txt" "$d/slam-$seed/poses.txt" 2>/dev/null) | $ties |"
     done
   done
 } | tee "$OUT/eval-sessions.md"
