@@ -39,9 +39,26 @@ poseError() {
        $1 !~ /^%/ && ($1 in x) { d2 = ($2 - x[$1])^2 + ($3 - y[$1])^2; s += d2; n++; if (d2 > w) w = d2 }
        END { if (n) printf "%.3f / %.3f", sqrt(s / n), sqrt(w); else printf "no pose paired" }' "$1" "$2"
 }
+# The first `x y phi` of a truth file.
+firstPose() { awk '!/^%/ { print $2, $3, $4; exit }' "$1"; }
 # The count of one kind of change in a changes.csv.
 kind() { awk -F, -v k="$1" '$1 == k { n++ } END { print n + 0 }' "$2"; }
 
+# B on its drifting odometry (seed $2) mapped with --poses slam against A, at --initial-pose $3
+# when given (the search refused the start); a row of its pose error and ties.
+tied() {
+  local d="$OUT/$1" args
+  args=(map --input "$d/drift-$2/odometry.rawlog" --poses slam --prior "$d/a" --no-baseline
+    --out "$d/slam-$2")
+  [ -z "$3" ] || args+=(--initial-pose "$3")
+  "$DYNAMAP" "${args[@]}" > /dev/null 2>&1 || true
+  local ties
+  ties=$(grep -A3 '"prior_map_ties"' "$d/slam-$2/summary.json" 2>/dev/null |
+    awk -F'[:,]' '/"accepted"/ { a = $2 } /"searches"/ { s = $2 } END { gsub(/ /, "", a); gsub(/ /, "", s); print a " / " s }')
+  echo "| $1 | $2 | $(poseError "$d/drift-$2/gt.txt" "$d/slam-$2/poses.txt" 2>/dev/null) | $ties |"
+}
+
+: > "$OUT/.tied"
 {
   echo "| log | laser lines A / B | objects moved | new | gone | structure added | removed | CPU of B alone / with prior [s] |"
   echo "|---|---|---|---|---|---|---|---|"
@@ -72,7 +89,7 @@ kind() { awk -F, -v k="$1" '$1 == k { n++ } END { print n + 0 }' "$2"; }
       "$DYNAMAP" perturb --input "$d/b.log" --out "$d/drift-$seed" --seed "$seed" > /dev/null 2>&1
       said=$("$DYNAMAP" map --input "$d/drift-$seed/odometry.rawlog" --poses odometry --prior "$d/a" \
         --no-baseline --out "$d/start-$seed" 2>&1 | grep -E "starts at|fit" | head -1 || true)
-      truth=$(awk '!/^%/ { print $2, $3, $4; exit }' "$d/drift-$seed/gt.txt")
+      truth=$(firstPose "$d/drift-$seed/gt.txt")
       found=$(echo "$said" | sed -n 's/.*starts at \([-0-9.]* [-0-9.]* [-0-9.]*\) .*/\1/p')
       if [ -n "$found" ]; then
         err=$(echo "$found $truth" | awk '{ d = $3 - $6; while (d > 3.14159265) d -= 6.2831853;
@@ -82,22 +99,11 @@ kind() { awk -F, -v k="$1" '$1 == k { n++ } END { print n + 0 }' "$2"; }
       else
         echo "| $log | $seed | refused: ${said#*: } | $truth | |"
       fi
+      tied "$log" "$seed" "$([ -n "$found" ] || echo "$truth")" >> "$OUT/.tied"
     done
   done
   echo
   echo "| log | seed | B on slam tied to A: position RMSE / worst [m] | ties accepted / searches |"
   echo "|---|---|---|---|"
-  for log in $LOGS; do
-    d="$OUT/$log"
-    [ -f "$d/b.log" ] || continue
-    for seed in 1 2 3; do
-      args=(map --input "$d/drift-$seed/odometry.rawlog" --poses slam --prior "$d/a" --no-baseline
-        --out "$d/slam-$seed")
-      [ -f "$d/start-$seed/poses.txt" ] || args+=(--initial-pose "$(awk '!/^%/ { print $2, $3, $4; exit }' "$d/drift-$seed/gt.txt")")
-      "$DYNAMAP" "${args[@]}" > /dev/null 2>&1 || true
-      ties=$(grep -A3 '"prior_map_ties"' "$d/slam-$seed/summary.json" 2>/dev/null |
-        awk -F'[:,]' '/"accepted"/ { a = $2 } /"searches"/ { s = $2 } END { gsub(/ /, "", a); gsub(/ /, "", s); print a " / " s }')
-      echo "| $log | $seed | $(poseError "$d/drift-$seed/gt.txt" "$d/slam-$seed/poses.txt" 2>/dev/null) | $ties |"
-    done
-  done
+  cat "$OUT/.tied"
 } | tee "$OUT/eval-sessions.md"
