@@ -17,12 +17,13 @@
 // symmetric corridor is no evidence); the optimiser's gate rejects what is still inconsistent.
 //
 // Tied to a prior map (tieTo, a later session against an earlier one's S): the log's first pose
-// is the start found in the prior map's frame, and every loop_every_m of path the scan is
-// searched in the prior's likelihood field, as a loop closure is in a submap's (window growing
-// with the path since the last tie, loop_min_score, the ambiguity test), around where the last
-// tie put the trajectory; a tie is an edge from node 0 (held fixed at the start) to the scan, of
-// loop_sigma's weight, gated as loop closures are: a place the building changed at does not
-// drag the trajectory. Without ties (none accepted) the run is that of a first session moved to
+// is the start found in the prior map's frame, and every loop_every_m of path the hits of the
+// last submap_length_m of path (at most submap_max_scans scans, as the front end laid them out)
+// are searched in the prior's likelihood field, as a loop closure is in a submap's (window
+// growing with the path since the last tie up to tie_max_window_m, loop_min_score, the ambiguity
+// test), around where the last tie put the trajectory; a tie is an edge from node 0 (held fixed
+// at the start) to the scan, of loop_sigma's weight, gated as loop closures are: a place the
+// building changed at does not drag the trajectory. Without ties (none accepted) the run is that of a first session moved to
 // the start.
 //
 // Cost: one small search per scan, a field rebuilt every refresh_scans scans, a branch and bound
@@ -116,11 +117,11 @@ struct SlamStats {
   std::size_t loops_proposed = 0;   ///< searches that found a pose scoring loop_min_score
   std::size_t loops_ambiguous = 0;  ///< ... dropped as ambiguous
   std::size_t loops_accepted = 0;   ///< loop edges in the final graph
+  std::size_t loops_rejected = 0;   ///< proposed but ambiguous or rejected by the gate
   std::size_t ties_attempted = 0;   ///< searches in the prior map (tieTo)
   std::size_t ties_proposed = 0;    ///< ... that scored loop_min_score
   std::size_t ties_ambiguous = 0;   ///< ... dropped as ambiguous
   std::size_t ties_accepted = 0;    ///< prior-map edges in the final graph
-  std::size_t loops_rejected = 0;   ///< proposed but ambiguous or rejected by the gate
   std::size_t optimisations = 0, iterations = 0;
   double final_error = 0;  ///< chi^2 of the graph after the last optimisation
   bool converged = true;   ///< false: the last optimisation failed, front-end poses are kept
