@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <queue>
 #include <tuple>
 
 namespace dynamap {
@@ -37,6 +38,13 @@ double coarseSumAt(const LikelihoodField& field, const std::vector<int>& cx,
   return s;
 }
 
+double coarserSumAt(const LikelihoodField& field, const std::vector<int>& cx,
+                    const std::vector<int>& cy, int dx, int dy) {
+  double s = 0;
+  for (std::size_t i = 0; i < cx.size(); ++i) s += field.coarser(cx[i] + dx, cy[i] + dy);
+  return s;
+}
+
 /// Cost and gradient terms of the points at `pose`: sum (1 - f)^2, J^T r and J^T J.
 double pointTerms(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
                   const mrpt::poses::CPose2D& pose, Eigen::Vector3d& g, Eigen::Matrix3d& h) {
@@ -63,48 +71,73 @@ namespace {
 
 // The poses of a window search that score at least `ratio` times the best (the best among
 // them), as offsets from the guess in cells and angle steps: branch and bound over the field's
-// coarse level, blocks in order of their bound until none can come near the best, or reach
+// two coarse levels, blocks in order of their bound until none can come near the best, or reach
 // `floor` (a sum of field values: a caller who refuses any score below it).
 struct Candidate {
   double sum;
   int turn, dx, dy;
 };
+
+/// A block of offsets in the branch and bound: `side` x `side` cells from (dx, dy) at `turn`,
+/// none scoring above `bound`.
+struct Block {
+  double bound;
+  int side, turn, dx, dy;
+  /// The heap's order, top first: the highest bound; of equal bounds a coarser block, then the
+  /// smaller (turn, dx, dy). So every block of the finer level is taken in the order of a sort
+  /// of them all by (-bound, turn, dx, dy), though most are never scored.
+  bool operator<(const Block& o) const {
+    return std::tie(bound, side, o.turn, o.dx, o.dy) < std::tie(o.bound, o.side, turn, dx, dy);
+  }
+};
+
 std::vector<Candidate> searchNearBest(const LikelihoodField& field,
                                       const std::vector<mrpt::math::TPoint2D>& pts,
                                       const mrpt::poses::CPose2D& guess, double window_m,
                                       double window_rad, double step_rad, double ratio,
                                       double floor = 0) {
-  constexpr int K = LikelihoodField::kCoarse;
+  constexpr int K = LikelihoodField::kCoarse, K2 = LikelihoodField::kCoarser;
   const double res = field.resolution();
   const int shift = static_cast<int>(std::floor(window_m / res + 1e-9));
   const int turns = step_rad > 0 ? static_cast<int>(std::floor(window_rad / step_rad + 1e-9)) : 0;
-  // Level 1: every block of K x K offsets at every angle, scored by its upper bound.
-  std::vector<std::tuple<double, int, int, int>> blocks;  // (-bound, turn, dx, dy)
   std::vector<std::vector<int>> cxs(2 * turns + 1), cys(2 * turns + 1);
-  for (int t = -turns; t <= turns; ++t) {
-    auto& cx = cxs[t + turns];
-    auto& cy = cys[t + turns];
-    pointCells(field, pts, {guess.x(), guess.y(), guess.phi() + t * step_rad}, cx, cy);
-    for (int dy = -shift; dy <= shift; dy += K) {
-      for (int dx = -shift; dx <= shift; dx += K) {
-        blocks.emplace_back(-coarseSumAt(field, cx, cy, dx, dy), t, dx, dy);
-      }
-    }
-  }
-  std::sort(blocks.begin(), blocks.end());
-  // Level 2: the blocks in order of their bound, until no block can beat the best (or come
-  // near it: the runner-up must be found too).
-  std::vector<Candidate> good;
-  double top = 0;
-  for (const auto& [neg_bound, t, bx, by] : blocks) {
-    if (-neg_bound <= ratio * top || -neg_bound < floor) break;
+  const auto bound = [&](int side, int t, int dx, int dy) {
     const auto& cx = cxs[t + turns];
     const auto& cy = cys[t + turns];
-    for (int dy = by; dy < by + K && dy <= shift; ++dy) {
-      for (int dx = bx; dx < bx + K && dx <= shift; ++dx) {
+    return side == K2 ? coarserSumAt(field, cx, cy, dx, dy) : coarseSumAt(field, cx, cy, dx, dy);
+  };
+  // Best first over both levels: every block of K2 x K2 offsets at every angle, by the coarser
+  // level's bound; a block taken from the heap is split into its K x K blocks (the coarse
+  // level's bound), and those into their offsets. A child's bound is no higher than its
+  // parent's, so the K x K blocks are scored in the order of their bounds, as if all had been.
+  std::priority_queue<Block> heap;
+  for (int t = -turns; t <= turns; ++t) {
+    pointCells(field, pts, {guess.x(), guess.y(), guess.phi() + t * step_rad}, cxs[t + turns],
+               cys[t + turns]);
+    for (int dy = -shift; dy <= shift; dy += K2) {
+      for (int dx = -shift; dx <= shift; dx += K2) heap.push({bound(K2, t, dx, dy), K2, t, dx, dy});
+    }
+  }
+  std::vector<Candidate> good;
+  double top = 0;
+  // Until no block can beat the best (or come near it: the runner-up must be found too).
+  while (!heap.empty() && heap.top().bound > ratio * top && heap.top().bound >= floor) {
+    const Block b = heap.top();
+    heap.pop();
+    if (b.side == K2) {
+      for (int dy = b.dy; dy < b.dy + K2 && dy <= shift; dy += K) {
+        for (int dx = b.dx; dx < b.dx + K2 && dx <= shift; dx += K)
+          heap.push({bound(K, b.turn, dx, dy), K, b.turn, dx, dy});
+      }
+      continue;
+    }
+    const auto& cx = cxs[b.turn + turns];
+    const auto& cy = cys[b.turn + turns];
+    for (int dy = b.dy; dy < b.dy + K && dy <= shift; ++dy) {
+      for (int dx = b.dx; dx < b.dx + K && dx <= shift; ++dx) {
         const double s = sumAt(field, cx, cy, dx, dy);
         if (s < ratio * top) continue;
-        good.push_back({s, t, dx, dy});
+        good.push_back({s, b.turn, dx, dy});
         top = std::max(top, s);
       }
     }

@@ -72,6 +72,7 @@ LikelihoodField LikelihoodField::fromGrid(const mrpt::maps::COccupancyGridMap2D&
     }
   }
   f.buildCoarse();
+  f.buildCoarser();
   return f;
 }
 
@@ -97,6 +98,39 @@ void LikelihoodField::buildCoarse() {
     for (int y = std::max(0, j - kCoarse); y < std::min(h_, j); ++y) {
       const std::uint8_t* in = &along_x[static_cast<std::size_t>(y) * cw];
       for (int i = 0; i < cw; ++i) out[i] = std::max(out[i], in[i]);
+    }
+  }
+}
+
+void LikelihoodField::buildCoarser() {
+  // A coarser block is the kCoarser / kCoarse coarse blocks along x, then along y: index (i, j)
+  // of coarser_ (the block starting at fine cell (i - kCoarser, j - kCoarser)) takes the coarse
+  // blocks starting at (i - kCoarser + a, j - kCoarser + b) for a, b in 0, kCoarse, ...; those
+  // starting before coarse_'s first (fine cell -kCoarse) cover no cell of the field: 0.
+  constexpr int kRatio = kCoarser / kCoarse;
+  static_assert(kRatio * kCoarse == kCoarser, "a coarser block is whole coarse blocks");
+  const int cw = w_ + kCoarse, ch = h_ + kCoarse;    // coarse_
+  const int bw = w_ + kCoarser, bh = h_ + kCoarser;  // coarser_
+  const int lag = kCoarser - kCoarse;  // coarser_ index i is coarse_ index i - lag
+  const auto coarseAt = [&](int i, int j) -> std::uint8_t {
+    return (i < 0 || j < 0 || i >= cw || j >= ch) ? 0 : coarse_[i + static_cast<std::size_t>(j) * cw];
+  };
+  std::vector<std::uint8_t> along_x(static_cast<std::size_t>(bw) * ch, 0);
+  for (int j = 0; j < ch; ++j) {
+    for (int i = 0; i < bw; ++i) {
+      std::uint8_t m = 0;
+      for (int a = 0; a < kRatio; ++a) m = std::max(m, coarseAt(i - lag + a * kCoarse, j));
+      along_x[i + static_cast<std::size_t>(j) * bw] = m;
+    }
+  }
+  coarser_.assign(static_cast<std::size_t>(bw) * bh, 0);
+  for (int j = 0; j < bh; ++j) {
+    std::uint8_t* out = &coarser_[static_cast<std::size_t>(j) * bw];
+    for (int b = 0; b < kRatio; ++b) {
+      const int y = j - lag + b * kCoarse;
+      if (y < 0 || y >= ch) continue;
+      const std::uint8_t* in = &along_x[static_cast<std::size_t>(y) * bw];
+      for (int i = 0; i < bw; ++i) out[i] = std::max(out[i], in[i]);
     }
   }
 }

@@ -147,6 +147,67 @@ TEST(FieldMatcher, BranchAndBoundFindsAKnownOffset) {
   EXPECT_NEAR(m.pose.phi(), at.phi(), 0.5 * M_PI / 180);
 }
 
+// Both coarse levels hold, at every block (those overhanging the field's edges too), the
+// largest value of its cells: exactly, for the branch and bound's bounds are these.
+TEST(FieldMatcher, EachCoarseLevelIsTheLargestValueOfItsBlock) {
+  mrpt::maps::COccupancyGridMap2D grid(-3, 3, -3, 3, 0.05f);
+  const CPose2D at(0.2, 0.1, 0.4);
+  const auto scan = test::makeScan(test::roomRanges(-2, 2.2, -1.5, 1.8, at, 181, M_PI), M_PI);
+  grid.insertObservation(*scan, mrpt::poses::CPose3D(at));
+  const LikelihoodField field = LikelihoodField::fromGrid(grid, 0.65, 0.05);
+  const auto blockMax = [&](int x0, int y0, int side) {
+    double m = 0;
+    for (int y = y0; y < y0 + side; ++y) {
+      for (int x = x0; x < x0 + side; ++x) m = std::max(m, field.cell(x, y));
+    }
+    return m;
+  };
+  const int w = field.cellX(3.5), h = field.cellY(3.5);  // beyond the field on both axes
+  int checked = 0, nonzero = 0;
+  for (int y = -LikelihoodField::kCoarser - 2; y < h; y += 3) {
+    for (int x = -LikelihoodField::kCoarser - 2; x < w; x += 3) {
+      ASSERT_EQ(field.coarse(x, y), blockMax(x, y, LikelihoodField::kCoarse)) << x << "," << y;
+      ASSERT_EQ(field.coarser(x, y), blockMax(x, y, LikelihoodField::kCoarser)) << x << "," << y;
+      ++checked;
+      nonzero += field.coarser(x, y) > 0;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(nonzero, checked / 4);
+}
+
+// The branch and bound prunes nothing it should not: its best is the best of every pose of
+// the window, scored one by one.
+TEST(FieldMatcher, BranchAndBoundFindsTheBestOfAnExhaustiveSearch) {
+  mrpt::maps::COccupancyGridMap2D grid(-6, 6, -6, 6, 0.05f);
+  const CPose2D at(0.5, -0.3, 0.2);
+  const auto scan = test::makeScan(test::roomRanges(-3, 4, -2, 2.5, at, 361, 2 * M_PI * 359 / 360),
+                                   2 * M_PI * 359 / 360);
+  grid.insertObservation(*scan, mrpt::poses::CPose3D(at));
+  const LikelihoodField field = LikelihoodField::fromGrid(grid, 0.65, 0.05);
+  const auto pts = hitPoints(makeRangeData(*scan, 30, 0.01), 6);
+  const CPose2D guess(at.x() - 0.45, at.y() + 0.3, at.phi() - 2 * M_PI / 180);
+  const double step = 1.0 * M_PI / 180, window = 0.9;
+  const FieldMatch m = searchWide(field, pts, guess, window, 3 * step, step, 0.4, 1.0);
+  const int shift = static_cast<int>(std::floor(window / 0.05 + 1e-9));
+  double best = 0;
+  for (int t = -3; t <= 3; ++t) {
+    const CPose2D p(guess.x(), guess.y(), guess.phi() + t * step);
+    for (int dy = -shift; dy <= shift; ++dy) {
+      for (int dx = -shift; dx <= shift; ++dx) {
+        double s = 0;
+        for (const auto& q : pts) {
+          const mrpt::math::TPoint2D g = p + q;
+          s += field.cell(field.cellX(g.x) + dx, field.cellY(g.y) + dy);
+        }
+        best = std::max(best, s / static_cast<double>(pts.size()));
+      }
+    }
+  }
+  EXPECT_GT(best, 0.8);
+  EXPECT_DOUBLE_EQ(m.score, best);
+}
+
 // A room symmetric under a half turn: its scan fits where it was taken and at the image of that
 // place; searchPlaces names both, best first as searchWide's best and runner-up, and no place twice.
 TEST(FieldMatcher, EveryPlaceNearTheBestIsFoundOnce) {

@@ -5,10 +5,11 @@
 // wall) and a pose is refined by Gauss-Newton on its bilinear interpolation, which is smooth
 // where the raw grid is a step. A second level holds, for each cell, the largest value over the
 // block of `kCoarse` x `kCoarse` cells starting there: an upper bound of every pose of that
-// block, for a branch and bound search (Cartographer's precomputation grids, one level).
+// block, for a branch and bound search; a third the same over `kCoarser` x `kCoarser` cells
+// (Cartographer's precomputation grids, two levels).
 //
 // Values are kept as bytes (1/254 steps, one more byte value marks cells never observed): a
-// finished submap costs two bytes per cell.
+// finished submap costs three bytes per cell.
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/TPoint2D.h>
@@ -26,7 +27,8 @@ std::vector<mrpt::math::TPoint2D> hitPoints(const RangeData& rd, std::size_t str
 
 class LikelihoodField {
  public:
-  static constexpr int kCoarse = 4;  ///< cells per side of a coarse block
+  static constexpr int kCoarse = 4;     ///< cells per side of a coarse block
+  static constexpr int kCoarser = 16;   ///< cells per side of a coarser block (4 coarse ones)
 
   LikelihoodField() = default;
   /// From the cells of `grid` with P(occ) > `occupied_threshold`, cropped to their bounding box
@@ -51,19 +53,27 @@ class LikelihoodField {
                ? 0.0
                : coarse_[(cx + kCoarse) + (cy + kCoarse) * (w_ + kCoarse)] * (1.0 / kMax);
   }
+  /// The largest value over cells [cx, cx + kCoarser) x [cy, cy + kCoarser).
+  double coarser(int cx, int cy) const {
+    return (cx < -kCoarser || cy < -kCoarser || cx >= w_ || cy >= h_)
+               ? 0.0
+               : coarser_[(cx + kCoarser) + (cy + kCoarser) * (w_ + kCoarser)] * (1.0 / kMax);
+  }
   /// Bilinear interpolation at (x, y) and its gradient.
   double interpolate(double x, double y, double& gx, double& gy) const;
-  std::size_t bytes() const { return fine_.size() + coarse_.size(); }
+  std::size_t bytes() const { return fine_.size() + coarse_.size() + coarser_.size(); }
 
  private:
   void buildCoarse();
+  void buildCoarser();
   static constexpr std::uint8_t kUnknown = 255;  // a byte of fine_: never observed
   static constexpr int kMax = 254;               // a byte of fine_ on a wall
 
   double res_ = 0.05, x0_ = 0, y0_ = 0;  // (x0_, y0_): the centre of cell (0, 0)
   int w_ = 0, h_ = 0;
   std::vector<std::uint8_t> fine_;    // w_ x h_
-  std::vector<std::uint8_t> coarse_;  // (w_ + kCoarse) x (h_ + kCoarse), offset by kCoarse
+  std::vector<std::uint8_t> coarse_;   // (w_ + kCoarse) x (h_ + kCoarse), offset by kCoarse
+  std::vector<std::uint8_t> coarser_;  // (w_ + kCoarser) x (h_ + kCoarser), offset by kCoarser
 };
 
 }  // namespace dynamap
