@@ -103,24 +103,24 @@ void LikelihoodField::buildCoarse() {
 }
 
 void LikelihoodField::buildCoarser() {
-  // A coarser block is the kCoarser / kCoarse coarse blocks along x, then along y: index (i, j)
-  // of coarser_ (the block starting at fine cell (i - kCoarser, j - kCoarser)) takes the coarse
+  // A coarser block is kCoarser / kCoarse coarse blocks along x, then along y: index (i, j) of
+  // coarser_ (the block starting at fine cell (i - kCoarser, j - kCoarser)) takes the coarse
   // blocks starting at (i - kCoarser + a, j - kCoarser + b) for a, b in 0, kCoarse, ...; those
-  // starting before coarse_'s first (fine cell -kCoarse) cover no cell of the field: 0.
+  // starting before coarse_'s first (fine cell -kCoarse) cover no cell of the field: 0. Each
+  // coarse row is copied framed by zeros, so the loops run without a check per cell.
   constexpr int kRatio = kCoarser / kCoarse;
   static_assert(kRatio * kCoarse == kCoarser, "a coarser block is whole coarse blocks");
   const int cw = w_ + kCoarse, ch = h_ + kCoarse;    // coarse_
   const int bw = w_ + kCoarser, bh = h_ + kCoarser;  // coarser_
   const int lag = kCoarser - kCoarse;  // coarser_ index i is coarse_ index i - lag
-  const auto coarseAt = [&](int i, int j) -> std::uint8_t {
-    return (i < 0 || j < 0 || i >= cw || j >= ch) ? 0 : coarse_[i + static_cast<std::size_t>(j) * cw];
-  };
   std::vector<std::uint8_t> along_x(static_cast<std::size_t>(bw) * ch, 0);
+  std::vector<std::uint8_t> row(static_cast<std::size_t>(lag + cw + kCoarser), 0);
   for (int j = 0; j < ch; ++j) {
-    for (int i = 0; i < bw; ++i) {
-      std::uint8_t m = 0;
-      for (int a = 0; a < kRatio; ++a) m = std::max(m, coarseAt(i - lag + a * kCoarse, j));
-      along_x[i + static_cast<std::size_t>(j) * bw] = m;
+    std::copy_n(&coarse_[static_cast<std::size_t>(j) * cw], cw, row.begin() + lag);
+    std::uint8_t* out = &along_x[static_cast<std::size_t>(j) * bw];
+    for (int a = 0; a < kRatio; ++a) {
+      const std::uint8_t* in = &row[static_cast<std::size_t>(a) * kCoarse];
+      for (int i = 0; i < bw; ++i) out[i] = std::max(out[i], in[i]);
     }
   }
   coarser_.assign(static_cast<std::size_t>(bw) * bh, 0);
