@@ -6,8 +6,9 @@
 // Branch and bound (field_matcher.h's searchWide) on a coarse copy of the map (cells of at least
 // 0.2 m, at most 640 on a side) over every offset and heading in 1.5 degree steps, then the same
 // search at the map's own resolution within a cell and a step of the coarse answer, then
-// Levenberg-Marquardt on the fine field; the runner-up place of the coarse search likewise. Cost: the map's cells twice (the two fields) plus the
-// coarse search's bounds, some (640 / 4)^2 x 240 sums of at most 400 points: a second or two.
+// Levenberg-Marquardt on the fine field; the runner-up place of the coarse search likewise.
+// Cost: the map's cells twice (the two fields) plus the coarse search's bounds, (640 / 16)^2 x
+// 240 sums of at most 400 points and those of the blocks near the best: under a second.
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/TPoint2D.h>
