@@ -129,15 +129,25 @@ TEST(PoseGraph, AnEdgeToAnUnknownNodeIsAnError) {
   EXPECT_THROW(g.addEdge({0, 1, {1, 0, 0}, info(1, 1), EdgeKind::Odometry}), std::out_of_range);
 }
 
-// A room's likelihood field: the wide search finds a pose 0.6 m and 4 degrees off its guess.
-TEST(FieldMatcher, BranchAndBoundFindsAKnownOffset) {
+// A 7 x 4.5 m room seen whole from `at`: its likelihood field, and every `stride`-th hit of
+// the scan in the robot's frame.
+struct SeenRoom {
+  LikelihoodField field;
+  std::vector<mrpt::math::TPoint2D> pts;
+};
+SeenRoom seenRoom(const CPose2D& at, std::size_t stride) {
   mrpt::maps::COccupancyGridMap2D grid(-6, 6, -6, 6, 0.05f);
-  const CPose2D at(0.5, -0.3, 0.2);
   const auto scan = test::makeScan(test::roomRanges(-3, 4, -2, 2.5, at, 361, 2 * M_PI * 359 / 360),
                                    2 * M_PI * 359 / 360);
   grid.insertObservation(*scan, mrpt::poses::CPose3D(at));
-  const LikelihoodField field = LikelihoodField::fromGrid(grid, 0.65, 0.05);
-  const auto pts = hitPoints(makeRangeData(*scan, 30, 0.01), 2);
+  return {LikelihoodField::fromGrid(grid, 0.65, 0.05),
+          hitPoints(makeRangeData(*scan, 30, 0.01), stride)};
+}
+
+// A room's likelihood field: the wide search finds a pose 0.6 m and 4 degrees off its guess.
+TEST(FieldMatcher, BranchAndBoundFindsAKnownOffset) {
+  const CPose2D at(0.5, -0.3, 0.2);
+  const auto [field, pts] = seenRoom(at, 2);
   const CPose2D guess(at.x() - 0.6, at.y() + 0.25, at.phi() - 4 * M_PI / 180);
   const FieldMatch m =
       searchWide(field, pts, guess, 1.0, 10 * M_PI / 180, 0.5 * M_PI / 180, 0.4, 0.9);
@@ -179,13 +189,8 @@ TEST(FieldMatcher, EachCoarseLevelIsTheLargestValueOfItsBlock) {
 // The branch and bound prunes nothing it should not: its best is the best of every pose of
 // the window, scored one by one.
 TEST(FieldMatcher, BranchAndBoundFindsTheBestOfAnExhaustiveSearch) {
-  mrpt::maps::COccupancyGridMap2D grid(-6, 6, -6, 6, 0.05f);
   const CPose2D at(0.5, -0.3, 0.2);
-  const auto scan = test::makeScan(test::roomRanges(-3, 4, -2, 2.5, at, 361, 2 * M_PI * 359 / 360),
-                                   2 * M_PI * 359 / 360);
-  grid.insertObservation(*scan, mrpt::poses::CPose3D(at));
-  const LikelihoodField field = LikelihoodField::fromGrid(grid, 0.65, 0.05);
-  const auto pts = hitPoints(makeRangeData(*scan, 30, 0.01), 6);
+  const auto [field, pts] = seenRoom(at, 6);
   const CPose2D guess(at.x() - 0.45, at.y() + 0.3, at.phi() - 2 * M_PI / 180);
   const double step = 1.0 * M_PI / 180, window = 0.9;
   const FieldMatch m = searchWide(field, pts, guess, window, 3 * step, step, 0.4, 1.0);
