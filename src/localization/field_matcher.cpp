@@ -24,24 +24,13 @@ void pointCells(const LikelihoodField& field, const std::vector<mrpt::math::TPoi
   }
 }
 
+/// The sum over the points' cells, offset by (dx, dy), of one level of the field: `Level` is
+/// LikelihoodField::cell, coarse or coarser.
+template <double (LikelihoodField::*Level)(int, int) const>
 double sumAt(const LikelihoodField& field, const std::vector<int>& cx, const std::vector<int>& cy,
              int dx, int dy) {
   double s = 0;
-  for (std::size_t i = 0; i < cx.size(); ++i) s += field.cell(cx[i] + dx, cy[i] + dy);
-  return s;
-}
-
-double coarseSumAt(const LikelihoodField& field, const std::vector<int>& cx,
-                   const std::vector<int>& cy, int dx, int dy) {
-  double s = 0;
-  for (std::size_t i = 0; i < cx.size(); ++i) s += field.coarse(cx[i] + dx, cy[i] + dy);
-  return s;
-}
-
-double coarserSumAt(const LikelihoodField& field, const std::vector<int>& cx,
-                    const std::vector<int>& cy, int dx, int dy) {
-  double s = 0;
-  for (std::size_t i = 0; i < cx.size(); ++i) s += field.coarser(cx[i] + dx, cy[i] + dy);
+  for (std::size_t i = 0; i < cx.size(); ++i) s += (field.*Level)(cx[i] + dx, cy[i] + dy);
   return s;
 }
 
@@ -104,7 +93,8 @@ std::vector<Candidate> searchNearBest(const LikelihoodField& field,
   const auto bound = [&](int side, int t, int dx, int dy) {
     const auto& cx = cxs[t + turns];
     const auto& cy = cys[t + turns];
-    return side == K2 ? coarserSumAt(field, cx, cy, dx, dy) : coarseSumAt(field, cx, cy, dx, dy);
+    return side == K2 ? sumAt<&LikelihoodField::coarser>(field, cx, cy, dx, dy)
+                      : sumAt<&LikelihoodField::coarse>(field, cx, cy, dx, dy);
   };
   // Best first over both levels: every block of K2 x K2 offsets at every angle, by the coarser
   // level's bound; a block taken from the heap is split into its K x K blocks (the coarse
@@ -135,7 +125,7 @@ std::vector<Candidate> searchNearBest(const LikelihoodField& field,
     const auto& cy = cys[b.turn + turns];
     for (int dy = b.dy; dy < b.dy + K && dy <= shift; ++dy) {
       for (int dx = b.dx; dx < b.dx + K && dx <= shift; ++dx) {
-        const double s = sumAt(field, cx, cy, dx, dy);
+        const double s = sumAt<&LikelihoodField::cell>(field, cx, cy, dx, dy);
         if (s < ratio * top) continue;
         good.push_back({s, b.turn, dx, dy});
         top = std::max(top, s);

@@ -76,63 +76,54 @@ LikelihoodField LikelihoodField::fromGrid(const mrpt::maps::COccupancyGridMap2D&
   return f;
 }
 
+namespace {
+
+// The level above `src` (sw x sh bytes): (sw + lag) x (sh + lag) bytes, at (i, j) the largest of
+// src at (i - lag + a * step, j - lag + b * step) for a, b in [0, n); a cell off `src` or
+// `unknown` counts as 0, the maximum's start. Along x, then along y: each row is copied framed
+// by zeros (unknown made 0), so the loops run without a check per cell and vectorise.
+std::vector<std::uint8_t> blockMaxima(const std::vector<std::uint8_t>& src, int sw, int sh, int n,
+                                      int step, int lag, std::uint8_t unknown) {
+  const int dw = sw + lag, dh = sh + lag;
+  std::vector<std::uint8_t> along_x(static_cast<std::size_t>(dw) * sh, 0);
+  std::vector<std::uint8_t> row(static_cast<std::size_t>(dw + (n - 1) * step), 0);
+  for (int y = 0; y < sh; ++y) {
+    const std::uint8_t* in = &src[static_cast<std::size_t>(y) * sw];
+    for (int x = 0; x < sw; ++x) row[lag + x] = in[x] == unknown ? 0 : in[x];
+    std::uint8_t* out = &along_x[static_cast<std::size_t>(y) * dw];
+    for (int a = 0; a < n; ++a) {
+      const std::uint8_t* shifted = &row[static_cast<std::size_t>(a) * step];
+      for (int i = 0; i < dw; ++i) out[i] = std::max(out[i], shifted[i]);
+    }
+  }
+  std::vector<std::uint8_t> dst(static_cast<std::size_t>(dw) * dh, 0);
+  for (int j = 0; j < dh; ++j) {
+    std::uint8_t* out = &dst[static_cast<std::size_t>(j) * dw];
+    for (int b = 0; b < n; ++b) {
+      const int y = j - lag + b * step;
+      if (y < 0 || y >= sh) continue;
+      const std::uint8_t* in = &along_x[static_cast<std::size_t>(y) * dw];
+      for (int i = 0; i < dw; ++i) out[i] = std::max(out[i], in[i]);
+    }
+  }
+  return dst;
+}
+
+}  // namespace
+
 void LikelihoodField::buildCoarse() {
-  // Sliding maximum over kCoarse cells, along x, then along y. Index (i, j) of coarse_ is the
-  // block starting at fine cell (i - kCoarse, j - kCoarse). Unknown cells and cells off the
-  // field count as 0, the maximum's start: each row is copied so, framed by kCoarse zeros, and
-  // the loops run without a check per cell (the compiler vectorises them).
-  const int cw = w_ + kCoarse, ch = h_ + kCoarse;
-  std::vector<std::uint8_t> along_x(static_cast<std::size_t>(cw) * h_, 0);
-  std::vector<std::uint8_t> row(static_cast<std::size_t>(w_ + 2 * kCoarse), 0);
-  for (int y = 0; y < h_; ++y) {
-    const std::uint8_t* src = &fine_[static_cast<std::size_t>(y) * w_];
-    for (int x = 0; x < w_; ++x) row[kCoarse + x] = src[x] == kUnknown ? 0 : src[x];
-    std::uint8_t* out = &along_x[static_cast<std::size_t>(y) * cw];
-    for (int k = 0; k < kCoarse; ++k) {
-      for (int i = 0; i < cw; ++i) out[i] = std::max(out[i], row[i + k]);
-    }
-  }
-  coarse_.assign(static_cast<std::size_t>(cw) * ch, 0);
-  for (int j = 0; j < ch; ++j) {
-    std::uint8_t* out = &coarse_[static_cast<std::size_t>(j) * cw];
-    for (int y = std::max(0, j - kCoarse); y < std::min(h_, j); ++y) {
-      const std::uint8_t* in = &along_x[static_cast<std::size_t>(y) * cw];
-      for (int i = 0; i < cw; ++i) out[i] = std::max(out[i], in[i]);
-    }
-  }
+  // coarse_ (i, j) is the block starting at fine cell (i - kCoarse, j - kCoarse): the fine cells
+  // i - kCoarse ... i - 1 (and so along y), unknown ones 0.
+  coarse_ = blockMaxima(fine_, w_, h_, kCoarse, 1, kCoarse, kUnknown);
 }
 
 void LikelihoodField::buildCoarser() {
-  // A coarser block is kCoarser / kCoarse coarse blocks along x, then along y: index (i, j) of
-  // coarser_ (the block starting at fine cell (i - kCoarser, j - kCoarser)) takes the coarse
-  // blocks starting at (i - kCoarser + a, j - kCoarser + b) for a, b in 0, kCoarse, ...; those
-  // starting before coarse_'s first (fine cell -kCoarse) cover no cell of the field: 0. Each
-  // coarse row is copied framed by zeros, so the loops run without a check per cell.
-  constexpr int kRatio = kCoarser / kCoarse;
-  static_assert(kRatio * kCoarse == kCoarser, "a coarser block is whole coarse blocks");
-  const int cw = w_ + kCoarse, ch = h_ + kCoarse;    // coarse_
-  const int bw = w_ + kCoarser, bh = h_ + kCoarser;  // coarser_
-  const int lag = kCoarser - kCoarse;  // coarser_ index i is coarse_ index i - lag
-  std::vector<std::uint8_t> along_x(static_cast<std::size_t>(bw) * ch, 0);
-  std::vector<std::uint8_t> row(static_cast<std::size_t>(lag + cw + kCoarser), 0);
-  for (int j = 0; j < ch; ++j) {
-    std::copy_n(&coarse_[static_cast<std::size_t>(j) * cw], cw, row.begin() + lag);
-    std::uint8_t* out = &along_x[static_cast<std::size_t>(j) * bw];
-    for (int a = 0; a < kRatio; ++a) {
-      const std::uint8_t* in = &row[static_cast<std::size_t>(a) * kCoarse];
-      for (int i = 0; i < bw; ++i) out[i] = std::max(out[i], in[i]);
-    }
-  }
-  coarser_.assign(static_cast<std::size_t>(bw) * bh, 0);
-  for (int j = 0; j < bh; ++j) {
-    std::uint8_t* out = &coarser_[static_cast<std::size_t>(j) * bw];
-    for (int b = 0; b < kRatio; ++b) {
-      const int y = j - lag + b * kCoarse;
-      if (y < 0 || y >= ch) continue;
-      const std::uint8_t* in = &along_x[static_cast<std::size_t>(y) * bw];
-      for (int i = 0; i < bw; ++i) out[i] = std::max(out[i], in[i]);
-    }
-  }
+  // coarser_ (i, j) is the block starting at fine cell (i - kCoarser, j - kCoarser): the coarse
+  // blocks starting there and every kCoarse cells on, coarse_ index i - (kCoarser - kCoarse) +
+  // a kCoarse. coarse_ holds no unknown byte (its values are at most kMax).
+  static_assert(kCoarser % kCoarse == 0, "a coarser block is whole coarse blocks");
+  coarser_ = blockMaxima(coarse_, w_ + kCoarse, h_ + kCoarse, kCoarser / kCoarse, kCoarse,
+                         kCoarser - kCoarse, kUnknown);
 }
 
 int LikelihoodField::cellX(double x) const {

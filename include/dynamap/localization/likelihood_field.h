@@ -48,17 +48,9 @@ class LikelihoodField {
     return v == kUnknown ? 0.0 : v * (1.0 / kMax);
   }
   /// The largest value over cells [cx, cx + kCoarse) x [cy, cy + kCoarse).
-  double coarse(int cx, int cy) const {
-    return (cx < -kCoarse || cy < -kCoarse || cx >= w_ || cy >= h_)
-               ? 0.0
-               : coarse_[(cx + kCoarse) + (cy + kCoarse) * (w_ + kCoarse)] * (1.0 / kMax);
-  }
+  double coarse(int cx, int cy) const { return blockAt(coarse_, kCoarse, cx, cy); }
   /// The largest value over cells [cx, cx + kCoarser) x [cy, cy + kCoarser).
-  double coarser(int cx, int cy) const {
-    return (cx < -kCoarser || cy < -kCoarser || cx >= w_ || cy >= h_)
-               ? 0.0
-               : coarser_[(cx + kCoarser) + (cy + kCoarser) * (w_ + kCoarser)] * (1.0 / kMax);
-  }
+  double coarser(int cx, int cy) const { return blockAt(coarser_, kCoarser, cx, cy); }
   /// Bilinear interpolation at (x, y) and its gradient.
   double interpolate(double x, double y, double& gx, double& gy) const;
   std::size_t bytes() const { return fine_.size() + coarse_.size() + coarser_.size(); }
@@ -66,6 +58,13 @@ class LikelihoodField {
  private:
   void buildCoarse();
   void buildCoarser();
+  /// The value of the block of `side` cells starting at (cx, cy) in `level` ((w_ + side) x
+  /// (h_ + side), offset by side); 0 for a block that covers no cell of the field.
+  double blockAt(const std::vector<std::uint8_t>& level, int side, int cx, int cy) const {
+    return (cx < -side || cy < -side || cx >= w_ || cy >= h_)
+               ? 0.0
+               : level[(cx + side) + (cy + side) * (w_ + side)] * (1.0 / kMax);
+  }
   static constexpr std::uint8_t kUnknown = 255;  // a byte of fine_: never observed
   static constexpr int kMax = 254;               // a byte of fine_ on a wall
 
