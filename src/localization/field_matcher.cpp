@@ -12,26 +12,64 @@
 namespace dynamap {
 namespace {
 
-/// The points' cells seen from `pose`.
+/// Cells of a field, each counted `w` times (or once, `w` empty).
+struct Cells {
+  std::vector<int> x, y, w;
+};
+
+/// The points' cells seen from `pose`, one per point.
 void pointCells(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
-                const mrpt::poses::CPose2D& pose, std::vector<int>& cx, std::vector<int>& cy) {
-  cx.resize(pts.size());
-  cy.resize(pts.size());
+                const mrpt::poses::CPose2D& pose, Cells& cells) {
+  cells.x.resize(pts.size());
+  cells.y.resize(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const mrpt::math::TPoint2D g = pose + pts[i];
-    cx[i] = field.cellX(g.x);
-    cy[i] = field.cellY(g.y);
+    cells.x[i] = field.cellX(g.x);
+    cells.y[i] = field.cellY(g.y);
   }
 }
 
-/// The sum over the points' cells, offset by (dx, dy), of one level of the field: `Level` is
-/// LikelihoodField::cell, coarse or coarser.
-template <double (LikelihoodField::*Level)(int, int) const>
-double sumAt(const LikelihoodField& field, const std::vector<int>& cx, const std::vector<int>& cy,
-             int dx, int dy) {
-  double s = 0;
-  for (std::size_t i = 0; i < cx.size(); ++i) s += (field.*Level)(cx[i] + dx, cy[i] + dy);
-  return s;
+/// Each distinct cell of `all` once, counted as often as it occurs there.
+Cells merged(const Cells& all) {
+  std::vector<std::pair<int, int>> yx(all.x.size());
+  for (std::size_t i = 0; i < yx.size(); ++i) yx[i] = {all.y[i], all.x[i]};
+  std::sort(yx.begin(), yx.end());
+  Cells distinct;
+  for (std::size_t i = 0; i < yx.size(); ++i) {
+    if (i > 0 && yx[i] == yx[i - 1]) {
+      ++distinct.w.back();
+      continue;
+    }
+    distinct.x.push_back(yx[i].second);
+    distinct.y.push_back(yx[i].first);
+    distinct.w.push_back(1);
+  }
+  return distinct;
+}
+
+/// For each of the nx x ny offsets (x0 + step bx, y0 + step by), row by row, the sum of `read`
+/// over `cells` so offset, each cell counted its `w` times. The cells are added in their order,
+/// so a sum of doubles over every point is the one taken point by point. Sums of a coarse level
+/// are integers (its units; bounds, needed only in order), the same over merged cells as over
+/// every point.
+template <typename T, typename Read>
+void latticeSums(const Cells& cells, int x0, int y0, int step, int nx, int ny, Read read,
+                 std::vector<T>& sums) {
+  sums.assign(static_cast<std::size_t>(nx) * ny, T{0});
+  const std::size_t n = cells.x.size();
+  for (int by = 0; by < ny; ++by) {
+    for (int bx = 0; bx < nx; ++bx) {
+      const int dx = x0 + bx * step, dy = y0 + by * step;
+      T s{0};
+      if (cells.w.empty()) {
+        for (std::size_t i = 0; i < n; ++i) s += read(cells.x[i] + dx, cells.y[i] + dy);
+      } else {
+        for (std::size_t i = 0; i < n; ++i)
+          s += cells.w[i] * read(cells.x[i] + dx, cells.y[i] + dy);
+      }
+      sums[static_cast<std::size_t>(by) * nx + bx] = s;
+    }
+  }
 }
 
 /// Cost and gradient terms of the points at `pose`: sum (1 - f)^2, J^T r and J^T J.
@@ -68,9 +106,9 @@ struct Candidate {
 };
 
 /// A block of offsets in the branch and bound: `side` x `side` cells from (dx, dy) at `turn`,
-/// none scoring above `bound`.
+/// none scoring above `bound` units.
 struct Block {
-  double bound;
+  int bound;
   int side, turn, dx, dy;
   /// The heap's order, top first: the highest bound; of equal bounds a coarser block, then the
   /// smaller (turn, dx, dy). So every block of the finer level is taken in the order of a sort
@@ -80,56 +118,88 @@ struct Block {
   }
 };
 
+/// The cells of a window search's points at each of its headings (index turn + turns), and
+/// those its bounds are summed over: the same merged where that pays (`merged` non-empty).
+struct Headings {
+  std::vector<Cells> points, merged;
+  const Cells& boundCells(int i) const { return merged.empty() ? points[i] : merged[i]; }
+};
+
+/// Every K2 x K2 block of offsets within `shift` cells at every heading within `turns` steps,
+/// with its coarser level's bound; `h` gets the points' cells at each heading.
+std::vector<Block> topLevel(const LikelihoodField& field,
+                            const std::vector<mrpt::math::TPoint2D>& pts,
+                            const mrpt::poses::CPose2D& guess, int shift, int turns,
+                            double step_rad, Headings& h) {
+  constexpr int K2 = LikelihoodField::kCoarser;
+  const int side = 2 * shift / K2 + 1;  // coarser blocks per side of the window
+  h.points.assign(2 * turns + 1, {});
+  // Merged cells pay where a heading has more blocks than there are points, as searching a
+  // whole map has (its coarse cells hold several points each); elsewhere sorting costs more
+  // than it saves.
+  h.merged.assign(static_cast<std::size_t>(side) * side > pts.size() ? 2 * turns + 1 : 0, {});
+  std::vector<Block> blocks;
+  blocks.reserve(static_cast<std::size_t>(side) * side * (2 * turns + 1));
+  std::vector<int> units;
+  for (int t = -turns, i = 0; t <= turns; ++t, ++i) {
+    const mrpt::poses::CPose2D at(guess.x(), guess.y(), guess.phi() + t * step_rad);
+    pointCells(field, pts, at, h.points[i]);
+    if (!h.merged.empty()) h.merged[i] = merged(h.points[i]);
+    latticeSums(
+        h.boundCells(i), -shift, -shift, K2, side, side,
+        [&](int x, int y) { return field.coarserUnits(x, y); }, units);
+    for (int k = 0; k < side * side; ++k)
+      blocks.push_back({units[k], K2, t, k % side * K2 - shift, k / side * K2 - shift});
+  }
+  return blocks;
+}
+
 std::vector<Candidate> searchNearBest(const LikelihoodField& field,
                                       const std::vector<mrpt::math::TPoint2D>& pts,
                                       const mrpt::poses::CPose2D& guess, double window_m,
                                       double window_rad, double step_rad, double ratio,
                                       double floor = 0) {
   constexpr int K = LikelihoodField::kCoarse, K2 = LikelihoodField::kCoarser;
-  const double res = field.resolution();
-  const int shift = static_cast<int>(std::floor(window_m / res + 1e-9));
+  const int shift = static_cast<int>(std::floor(window_m / field.resolution() + 1e-9));
   const int turns = step_rad > 0 ? static_cast<int>(std::floor(window_rad / step_rad + 1e-9)) : 0;
-  std::vector<std::vector<int>> cxs(2 * turns + 1), cys(2 * turns + 1);
-  const auto bound = [&](int side, int t, int dx, int dy) {
-    const auto& cx = cxs[t + turns];
-    const auto& cy = cys[t + turns];
-    return side == K2 ? sumAt<&LikelihoodField::coarser>(field, cx, cy, dx, dy)
-                      : sumAt<&LikelihoodField::coarse>(field, cx, cy, dx, dy);
-  };
   // Best first over both levels: every block of K2 x K2 offsets at every angle, by the coarser
   // level's bound; a block taken from the heap is split into its K x K blocks (the coarse
   // level's bound), and those into their offsets. A child's bound is no higher than its
   // parent's, so the K x K blocks are scored in the order of their bounds, as if all had been.
-  std::priority_queue<Block> heap;
-  for (int t = -turns; t <= turns; ++t) {
-    pointCells(field, pts, {guess.x(), guess.y(), guess.phi() + t * step_rad}, cxs[t + turns],
-               cys[t + turns]);
-    for (int dy = -shift; dy <= shift; dy += K2) {
-      for (int dx = -shift; dx <= shift; dx += K2) heap.push({bound(K2, t, dx, dy), K2, t, dx, dy});
-    }
-  }
+  Headings h;
+  std::priority_queue<Block> heap(std::less<Block>(),
+                                  topLevel(field, pts, guess, shift, turns, step_rad, h));
   std::vector<Candidate> good;
+  std::vector<int> units;
+  std::vector<double> sums;
   double top = 0;
   // Until no block can beat the best (or come near it: the runner-up must be found too).
-  while (!heap.empty() && heap.top().bound > ratio * top && heap.top().bound >= floor) {
+  const auto open = [&](const Block& b) {
+    const double bound = b.bound * LikelihoodField::kUnit;
+    return bound > ratio * top && bound >= floor;
+  };
+  while (!heap.empty() && open(heap.top())) {
     const Block b = heap.top();
     heap.pop();
+    const int i = b.turn + turns;
+    const int step = b.side == K2 ? K : 1, n = b.side / step;  // a child's side; per side
+    const int nx = std::min(n, (shift - b.dx) / step + 1);
+    const int ny = std::min(n, (shift - b.dy) / step + 1);
     if (b.side == K2) {
-      for (int dy = b.dy; dy < b.dy + K2 && dy <= shift; dy += K) {
-        for (int dx = b.dx; dx < b.dx + K2 && dx <= shift; dx += K)
-          heap.push({bound(K, b.turn, dx, dy), K, b.turn, dx, dy});
-      }
+      latticeSums(
+          h.boundCells(i), b.dx, b.dy, step, nx, ny,
+          [&](int x, int y) { return field.coarseUnits(x, y); }, units);
+      for (int k = 0; k < nx * ny; ++k)
+        heap.push({units[k], K, b.turn, b.dx + k % nx * K, b.dy + k / nx * K});
       continue;
     }
-    const auto& cx = cxs[b.turn + turns];
-    const auto& cy = cys[b.turn + turns];
-    for (int dy = b.dy; dy < b.dy + K && dy <= shift; ++dy) {
-      for (int dx = b.dx; dx < b.dx + K && dx <= shift; ++dx) {
-        const double s = sumAt<&LikelihoodField::cell>(field, cx, cy, dx, dy);
-        if (s < ratio * top) continue;
-        good.push_back({s, b.turn, dx, dy});
-        top = std::max(top, s);
-      }
+    latticeSums(
+        h.points[i], b.dx, b.dy, step, nx, ny, [&](int x, int y) { return field.cell(x, y); },
+        sums);
+    for (int k = 0; k < nx * ny; ++k) {
+      if (sums[k] < ratio * top) continue;
+      good.push_back({sums[k], b.turn, b.dx + k % nx, b.dy + k / nx});
+      top = std::max(top, sums[k]);
     }
   }
   return good;
@@ -147,9 +217,9 @@ FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math
   const double res = field.resolution();
   const double n = static_cast<double>(pts.size());
   // Below ratio x min_score no pose can be the best one accepted nor its runner-up.
-  const std::vector<Candidate> good = searchNearBest(field, pts, guess, window_m, window_rad,
-                                                     step_rad, ambiguity_ratio,
-                                                     ambiguity_ratio * min_score * n);
+  const std::vector<Candidate> good =
+      searchNearBest(field, pts, guess, window_m, window_rad, step_rad, ambiguity_ratio,
+                     ambiguity_ratio * min_score * n);
   int bt = 0, bx = 0, by = 0;
   double bs = -1;
   for (const auto& [s, t, dx, dy] : good) {
@@ -163,7 +233,8 @@ FieldMatch searchWide(const LikelihoodField& field, const std::vector<mrpt::math
     const bool far = std::hypot(dx - bx, dy - by) > sep_cells || std::abs(t - bt) > sep_turns;
     if (far && s / n > best.runner_up) {
       best.runner_up = s / n;
-      best.runner_up_pose = {guess.x() + dx * res, guess.y() + dy * res, guess.phi() + t * step_rad};
+      best.runner_up_pose = {guess.x() + dx * res, guess.y() + dy * res,
+                             guess.phi() + t * step_rad};
     }
   }
   return best;

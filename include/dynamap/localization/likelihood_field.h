@@ -27,8 +27,10 @@ std::vector<mrpt::math::TPoint2D> hitPoints(const RangeData& rd, std::size_t str
 
 class LikelihoodField {
  public:
-  static constexpr int kCoarse = 4;     ///< cells per side of a coarse block
-  static constexpr int kCoarser = 16;   ///< cells per side of a coarser block (4 coarse ones)
+  static constexpr int kCoarse = 4;    ///< cells per side of a coarse block
+  static constexpr int kCoarser = 16;  ///< cells per side of a coarser block (4 coarse ones)
+  static constexpr int kMax = 254;     ///< a wall's value in units
+  static constexpr double kUnit = 1.0 / kMax;  ///< the step of the field's values
 
   LikelihoodField() = default;
   /// From the cells of `grid` with P(occ) > `occupied_threshold`, cropped to their bounding box
@@ -47,10 +49,12 @@ class LikelihoodField {
     const std::uint8_t v = fine_[cx + cy * w_];
     return v == kUnknown ? 0.0 : v * (1.0 / kMax);
   }
-  /// The largest value over cells [cx, cx + kCoarse) x [cy, cy + kCoarse).
-  double coarse(int cx, int cy) const { return blockAt(coarse_, kCoarse, cx, cy); }
-  /// The largest value over cells [cx, cx + kCoarser) x [cy, cy + kCoarser).
-  double coarser(int cx, int cy) const { return blockAt(coarser_, kCoarser, cx, cy); }
+  /// The largest value over cells [cx, cx + kCoarse) x [cy, cy + kCoarse), in units of kUnit.
+  int coarseUnits(int cx, int cy) const { return blockAt(coarse_, kCoarse, cx, cy); }
+  /// The largest value over cells [cx, cx + kCoarser) x [cy, cy + kCoarser), in units of kUnit.
+  int coarserUnits(int cx, int cy) const { return blockAt(coarser_, kCoarser, cx, cy); }
+  double coarse(int cx, int cy) const { return coarseUnits(cx, cy) * kUnit; }
+  double coarser(int cx, int cy) const { return coarserUnits(cx, cy) * kUnit; }
   /// Bilinear interpolation at (x, y) and its gradient.
   double interpolate(double x, double y, double& gx, double& gy) const;
   std::size_t bytes() const { return fine_.size() + coarse_.size() + coarser_.size(); }
@@ -58,19 +62,18 @@ class LikelihoodField {
  private:
   void buildCoarse();
   void buildCoarser();
-  /// The value of the block of `side` cells starting at (cx, cy) in `level` ((w_ + side) x
-  /// (h_ + side), offset by side); 0 for a block that covers no cell of the field.
-  double blockAt(const std::vector<std::uint8_t>& level, int side, int cx, int cy) const {
+  /// The value in units of the block of `side` cells starting at (cx, cy) in `level` ((w_ +
+  /// side) x (h_ + side), offset by side); 0 for a block that covers no cell of the field.
+  int blockAt(const std::vector<std::uint8_t>& level, int side, int cx, int cy) const {
     return (cx < -side || cy < -side || cx >= w_ || cy >= h_)
-               ? 0.0
-               : level[(cx + side) + (cy + side) * (w_ + side)] * (1.0 / kMax);
+               ? 0
+               : level[(cx + side) + (cy + side) * (w_ + side)];
   }
   static constexpr std::uint8_t kUnknown = 255;  // a byte of fine_: never observed
-  static constexpr int kMax = 254;               // a byte of fine_ on a wall
 
   double res_ = 0.05, x0_ = 0, y0_ = 0;  // (x0_, y0_): the centre of cell (0, 0)
   int w_ = 0, h_ = 0;
-  std::vector<std::uint8_t> fine_;    // w_ x h_
+  std::vector<std::uint8_t> fine_;     // w_ x h_
   std::vector<std::uint8_t> coarse_;   // (w_ + kCoarse) x (h_ + kCoarse), offset by kCoarse
   std::vector<std::uint8_t> coarser_;  // (w_ + kCoarser) x (h_ + kCoarser), offset by kCoarser
 };
