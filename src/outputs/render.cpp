@@ -77,7 +77,8 @@ CImage renderStaticOn(const mrpt::maps::COccupancyGridMap2D& grid,
       // Outside `grid`: never observed there, the prior's grey.
       row[cx] = tx < 0 || ty < 0 || tx >= gx || ty >= gy
                     ? DynamicGridMap::l2p_255(0)
-                    : grey(grid, static_cast<std::size_t>(tx) + static_cast<std::size_t>(ty) * grid.getSizeX());
+                    : grey(grid, static_cast<std::size_t>(tx) +
+                                     static_cast<std::size_t>(ty) * grid.getSizeX());
     }
   }
   return img;
@@ -139,7 +140,9 @@ namespace {
 // A box or a label on a picture, in pixels (inclusive).
 struct Rect {
   int x0, y0, x1, y1;
-  bool overlaps(const Rect& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
+  bool overlaps(const Rect& o) const {
+    return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1;
+  }
 };
 
 // What is drawn on a picture that no label may cover: object boxes and the labels placed so far.
@@ -263,14 +266,14 @@ void drawObjectBoxes(CImage& img, const DynamicGridMap& map, const View& view,
     board.taken.push_back(at);
     // A label away from its box points at it.
     if (!(at.y1 + 3 >= b.y0 && at.y0 <= b.y1 + 3 && at.x1 + 4 >= b.x0 && at.x0 <= b.x1 + 4)) {
-      img.line((at.x0 + at.x1) / 2, (at.y0 + at.y1) / 2, (b.x0 + b.x1) / 2, (b.y0 + b.y1) / 2, box, 1);
+      img.line((at.x0 + at.x1) / 2, (at.y0 + at.y1) / 2, (b.x0 + b.x1) / 2, (b.y0 + b.y1) / 2, box,
+               1);
     }
     img.filledRectangle(at.x0, at.y0, at.x1, at.y1, label_bg);
     img.rectangle(at.x0, at.y0, at.x1, at.y1, box, 1);
     img.textOut(at.x0 + 2, at.y0 + 1, label, text);
   }
 }
-
 
 // 1, 2 or 5 times a power of ten metres, the longest such that fits in `max_px` pixels.
 double scaleBarMetres(double metres_per_px, int max_px) {
@@ -298,7 +301,8 @@ CImage withLegend(const CImage& map_img, double metres_per_px,
   const int w = static_cast<int>(map_img.getWidth()), strip = 2 * char_h + 14;
   const int h = static_cast<int>(map_img.getHeight());
   CImage img(w, h + strip + (h + strip) % 2, mrpt::img::CH_RGB);  // even: video frames
-  img.filledRectangle(0, 0, w - 1, static_cast<int>(img.getHeight()) - 1, mrpt::img::TColor(255, 255, 255));
+  img.filledRectangle(0, 0, w - 1, static_cast<int>(img.getHeight()) - 1,
+                      mrpt::img::TColor(255, 255, 255));
   img.drawImage(0, 0, map_img);
   selectFont(img, char_w, char_h);
   const mrpt::img::TColor black(0, 0, 0);
@@ -393,10 +397,17 @@ namespace {
 
 const mrpt::img::TColor kRemoved(220, 0, 0), kAdded(0, 160, 0), kMoved(30, 80, 255);
 
-// The map under a change report: the prior's S, this session's where the prior saw nothing,
-// the structure changes' cells in their colours.
-CImage paintChangeCells(const DynamicGridMap& map, const View& view,
-                        const SessionChanges& changes, const std::vector<ChangeRow>& rows) {
+// A cell's grey in three tones: a wall (P(occ) above 0.65) black, free space (below 0.35)
+// white, the rest the grey of the unknown. Under a change report the shading of free space is
+// noise that hides the changes' colours (and makes a picture of a campus ten times larger).
+std::uint8_t plainGrey(std::uint8_t g) {
+  return g < 89 ? 0 : g > 166 ? 255 : 127;
+}
+
+// The map under a change report, in plain tones: the prior's S, this session's where the prior
+// saw nothing, the structure changes' cells in their colours.
+CImage paintChangeCells(const DynamicGridMap& map, const View& view, const SessionChanges& changes,
+                        const std::vector<ChangeRow>& rows) {
   std::vector<std::uint8_t> tag(map.getRawMap().size(), 0);  // 1 removed or left, 2 added
   for (const ChangeRow& r : rows) {
     const std::uint8_t t = r.kind == "structure_added" ? 2 : 1;  // else: a place vacated
@@ -408,14 +419,14 @@ CImage paintChangeCells(const DynamicGridMap& map, const View& view,
     if (tag[i] == 1) return colour(kRemoved);
     if (tag[i] == 2) return colour(kAdded);
     const std::int8_t prior = on_grid[i];
-    const std::uint8_t g = prior != 0 ? DynamicGridMap::cellGrey(prior) : grey(map, i);
+    const std::uint8_t g = plainGrey(prior != 0 ? DynamicGridMap::cellGrey(prior) : grey(map, i));
     return Bgr{g, g, g};
   });
 }
 
 // An object change: a ring at its place (new, gone) or an arrow to it (moved), and its label.
-void drawObjectChange(CImage& img, const DynamicGridMap& map, const View& view,
-                      const ChangeRow& r, LabelBoard& board) {
+void drawObjectChange(CImage& img, const DynamicGridMap& map, const View& view, const ChangeRow& r,
+                      LabelBoard& board) {
   const bool moved = r.kind == "object_moved", gone = r.kind == "object_gone";
   const mrpt::img::TColor c = moved ? kMoved : gone ? kRemoved : kAdded;
   const double x = gone ? r.from_x : r.to_x, y = gone ? r.from_y : r.to_y;

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include "../test_util.h"
+#include "dynamap/pipeline/session_changes.h"
 
 namespace dynamap {
 namespace {
@@ -95,6 +98,54 @@ TEST(Render, OverlayHasItsLegendStripBelowTheMap) {
   EXPECT_EQ(img.getWidth(), static_cast<std::size_t>((v.cx1 - v.cx0) * v.scale));
   EXPECT_GT(img.getHeight(), static_cast<std::size_t>((v.cy1 - v.cy0) * v.scale));
   EXPECT_EQ(img.getHeight() % 2, 0u);  // video frames need even sizes
+}
+
+// The first cell value whose grey lies in [lo, hi] other than `not_this` (cell values span the
+// int8 range).
+std::int8_t cellOfGrey(int lo, int hi, int not_this) {
+  for (int v = -127; v <= 127; ++v) {
+    const int g = DynamicGridMap::cellGrey(static_cast<DynamicGridMap::cellType>(v));
+    if (g >= lo && g <= hi && g != not_this) return static_cast<std::int8_t>(v);
+  }
+  ADD_FAILURE() << "no cell value of grey " << lo << ".." << hi;
+  return 0;
+}
+
+// A change report's map is the prior's S in three tones, the changes in colour: a wall black,
+// free space white (even where its shade is not), the unknown and the unsure the unknown's
+// grey, an added structure's cells green.
+TEST(Render, ChangesShowThePriorInThreeTonesAndTheChangesInColour) {
+  SessionState prior;
+  prior.resolution = 0.05;
+  prior.size_x = 20;
+  prior.size_y = 10;
+  prior.static_cells.assign(200, 0);  // unknown
+  const std::int8_t wall = cellOfGrey(0, 60, -1), pale = cellOfGrey(180, 240, -1),
+                    unsure = cellOfGrey(95, 160, 127);
+  const auto at = [&](int x, int y) -> std::int8_t& { return prior.static_cells[x + 20 * y]; };
+  at(2, 5) = wall;
+  at(3, 5) = pale;
+  at(4, 5) = unsure;
+  DynamicGridMap map;
+  map.loadStatic(0, 0, 0.05, 20, 10, prior.static_cells);
+  const SessionChanges changes(prior, ChangeOptions{}, ObjectOptions{});
+  ChangeRow added;
+  added.kind = "structure_added";
+  added.region = {{6, 5}};
+  const mrpt::img::CImage img = renderChanges(map, changes, {added});
+  const View v = observedView(map);
+  const auto bgr = [&](int x, int y) {
+    const Pixel p = toPixel(map, v, map.idx2x(x), map.idx2y(y));
+    const auto* c = img.ptr<std::uint8_t>(static_cast<unsigned>(p.x), static_cast<unsigned>(p.y));
+    return std::array<int, 3>{c[0], c[1], c[2]};
+  };
+  EXPECT_EQ(bgr(2, 5), (std::array<int, 3>{0, 0, 0}));
+  EXPECT_EQ(bgr(3, 5), (std::array<int, 3>{255, 255, 255}));
+  EXPECT_EQ(bgr(4, 5), (std::array<int, 3>{127, 127, 127}));
+  EXPECT_EQ(bgr(8, 2), (std::array<int, 3>{127, 127, 127}));  // never observed
+  const auto green = bgr(6, 5);
+  EXPECT_GT(green[1], 100);
+  EXPECT_LT(green[2], 50);
 }
 
 }  // namespace
