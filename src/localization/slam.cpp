@@ -87,6 +87,9 @@ std::vector<Option<O>> loopRows() {
        "(across loop closures), not with the path since the last loop closure"},
       {"loop_optimise_m", &O::loop_optimise_m, Range::closed(0, 1000), "m",
        "a loop closure this far from the estimate is optimised at once (0: off)"},
+      {"loop_cloud_window_m", &O::loop_cloud_window_m, Range::closed(0, 20), "m",
+       "a loop search whose window is at least this wide matches the last submap_length_m of "
+       "scans, not the current scan alone (0: never)"},
       {"optimise_every_nodes", &O::optimise_every_nodes, Range::closed(1, 1000000), "",
        "nodes between optimisations (new loops)"},
       {"max_iterations", &O::max_iterations, Range::closed(1, 10000), "",
@@ -195,17 +198,23 @@ void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
   }
   last_odometry_ = odometry;
   if (!pts.empty()) updateSubmaps(rd);
-  if (path_.back() - last_attempt_path_ >= o_.loop_every_m) {
-    last_attempt_path_ = path_.back();
-    searchLoops(pts);
-  }
-  if (prior_ && !pts.empty()) {
+  if ((prior_ || o_.loop_cloud_window_m > 0) && !pts.empty()) {
     recent_.emplace_back(i, pts);
     // As a submap: so much path or so many scans (a robot standing still adds no path).
     while (path_.back() - path_[recent_.front().first] > o_.submap_length_m ||
            recent_.size() > static_cast<std::size_t>(o_.submap_max_scans)) {
       recent_.pop_front();
     }
+  }
+  if (path_.back() - last_attempt_path_ >= o_.loop_every_m) {
+    last_attempt_path_ = path_.back();
+    if (o_.loop_cloud_window_m > 0 && !pts.empty()) {
+      searchLoops(pts, recentPoints());
+    } else {
+      searchLoops(pts, pts);
+    }
+  }
+  if (prior_ && !pts.empty()) {
     if (path_.back() - last_tie_attempt_ >= o_.loop_every_m) {
       last_tie_attempt_ = path_.back();
       tryTie(recentPoints());
@@ -256,7 +265,8 @@ void Slam::updateSubmaps(const RangeData& rd) {
   }
 }
 
-void Slam::searchLoops(const std::vector<mrpt::math::TPoint2D>& pts) {
+void Slam::searchLoops(const std::vector<mrpt::math::TPoint2D>& pts,
+                       const std::vector<mrpt::math::TPoint2D>& cloud) {
   const std::size_t i = graph_.size() - 1;
   const double here = path_.back();
   std::vector<std::pair<double, const Submap*>> near;
@@ -288,7 +298,7 @@ void Slam::searchLoops(const std::vector<mrpt::math::TPoint2D>& pts) {
                                  ? apart[s->anchor()]
                                  : std::min(here - last_closure_path_, here - path_[s->lastNode()]);
     double moved = 0;
-    if (tryLoop(*s, pts, uncertain, moved)) {
+    if (tryLoop(*s, pts, cloud, uncertain, moved)) {
       last_closure_path_ = here;
       pending_loops_ = true;
       optimise_now = optimise_now || (o_.loop_optimise_m > 0 && moved > o_.loop_optimise_m);
@@ -323,12 +333,15 @@ bool Slam::searchPlace(const LikelihoodField& field, const std::vector<mrpt::mat
 }
 
 bool Slam::tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts,
-                   double uncertain_m, double& moved_m) {
+                   const std::vector<mrpt::math::TPoint2D>& cloud, double uncertain_m,
+                   double& moved_m) {
   ++stats_.loop_attempts;
   const std::size_t i = graph_.size() - 1;
   const mrpt::poses::CPose2D guess = graph_.pose(i) - graph_.pose(s.anchor());
   mrpt::poses::CPose2D found;
-  if (!searchPlace(s.field(), pts, guess, uncertain_m, o_.loop_max_window_m,
+  const bool wide = o_.loop_cloud_window_m > 0 &&
+                    o_.loop_window_m + o_.loop_window_per_m * uncertain_m >= o_.loop_cloud_window_m;
+  if (!searchPlace(s.field(), wide ? cloud : pts, guess, uncertain_m, o_.loop_max_window_m,
                    o_.loop_max_window_deg, stats_.loops_proposed, stats_.loops_ambiguous, found)) {
     return false;
   }

@@ -77,6 +77,11 @@ class SlamLoop : public ::testing::Test {
     EXPECT_EQ(test::run(kExe + " map --no-baseline --poses odometry --input " + *log_ + " --out " +
                         *dir_ + "/odo"),
               0);
+    // Every loop search matching the recent scans' cloud, however narrow its window.
+    std::ofstream(*dir_ + "/cloud.ini") << "[slam]\nloop_cloud_window_m = 0.01\n";
+    EXPECT_EQ(test::run(kExe + " map --no-baseline --poses slam --config " + *dir_ +
+                        "/cloud.ini --input " + *log_ + " --out " + *dir_ + "/cloud"),
+              0);
     std::ofstream(*dir_ + "/line.ini") << "[scan_matching]\npoint_to_line = true\n";
     EXPECT_EQ(test::run(kExe + " map --no-baseline --poses slam --config " + *dir_ +
                         "/line.ini --input " + *log_ + " --out " + *dir_ + "/line"),
@@ -135,6 +140,20 @@ TEST(SlamOdometryCheck, OdometryThatLaysTheScansBetterIsKept) {
 }
 
 // The front end with point-to-line ICP on the submap's cells instead of MRPT's ICP.
+// Loop closures found with the last metres of scans (laid out by the front end, in the current
+// scan's frame) close the loop as well as those of the scan alone: a cloud in a wrong frame
+// would find no place or a wrong one.
+TEST_F(SlamLoop, LoopSearchesMatchingTheRecentScansCloseTheLoopToo) {
+  const double slam = alignedError(*dir_ + "/cloud/poses.txt", *dir_ + "/gt.txt");
+  EXPECT_LT(slam, 0.05);
+  EXPECT_LT(slam, alignedError(*dir_ + "/odo/poses.txt", *dir_ + "/gt.txt") / 3);
+  const auto loops =
+      nlohmann::json::parse(test::readFile(*dir_ + "/cloud/summary.json"))["slam"]["loop_closures"];
+  EXPECT_GT(loops["accepted"].get<int>(), 10) << loops;
+  EXPECT_NE(test::readFile(*dir_ + "/cloud/config.ini").find("loop_cloud_window_m = 0.01"),
+            std::string::npos);
+}
+
 TEST_F(SlamLoop, APointToLineFrontEndRemovesTheDriftToo) {
   const double odo = alignedError(*dir_ + "/odo/poses.txt", *dir_ + "/gt.txt");
   const double line = alignedError(*dir_ + "/line/poses.txt", *dir_ + "/gt.txt");
@@ -241,13 +260,12 @@ TEST(SlamTiedToPrior, ASessionsPosesLieInThePriorMapsFrame) {
   const std::vector<TimedPose> truth = readPoseFile(dir + "/gt.txt");
   ASSERT_FALSE(truth.empty());
   const std::string start = " --initial-pose \"" + std::to_string(truth[0].x) + " " +
-                            std::to_string(truth[0].y) + " " +
-                            std::to_string(truth[0].phi) + "\"";
+                            std::to_string(truth[0].y) + " " + std::to_string(truth[0].phi) + "\"";
   std::string out;
-  ASSERT_EQ(test::run(map + " --poses slam --prior " + dir + "/prior" + start + " --out " + dir +
-                          "/tied",
-                      &out),
-            0)
+  ASSERT_EQ(
+      test::run(map + " --poses slam --prior " + dir + "/prior" + start + " --out " + dir + "/tied",
+                &out),
+      0)
       << out;
   ASSERT_EQ(test::run(map + " --poses slam --out " + dir + "/alone"), 0);  // anchored below
   const auto ties =

@@ -91,6 +91,10 @@ struct SlamOptions {
   /// A loop closure this far (m) from the pose's estimate is optimised at once, so that the next
   /// searches start from corrected estimates; 0: only every optimise_every_nodes [0, 1000].
   double loop_optimise_m = 0.0;
+  /// A loop search whose window is at least this wide (m) matches the last submap_length_m of
+  /// scans (as the ties to a prior map do), not the current scan alone: a wide window holds
+  /// more places one scan fits by chance. 0: never [0, 20].
+  double loop_cloud_window_m = 0.0;
   // Optimisation.
   int optimise_every_nodes = 1000;  ///< nodes between optimisations with new loops [1, 1e6]
   int max_iterations = 100;         ///< Levenberg-Marquardt iterations per run [1, 10000]
@@ -154,9 +158,12 @@ class Slam {
  private:
   mrpt::poses::CPose2D frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd);
   void updateSubmaps(const RangeData& rd);
-  void searchLoops(const std::vector<mrpt::math::TPoint2D>& pts);
+  /// `cloud` is what the searches match (`pts`, the scan's hits, or the recent scans').
+  void searchLoops(const std::vector<mrpt::math::TPoint2D>& pts,
+                   const std::vector<mrpt::math::TPoint2D>& cloud);
   /// Whether a loop closure was added; `moved_m`: how far it lies from the pose's estimate.
-  bool tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts, double uncertain_m,
+  bool tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts,
+               const std::vector<mrpt::math::TPoint2D>& cloud, double uncertain_m,
                double& moved_m);
   /// A prior-map edge to the last node, when the search finds one place.
   void tryTie(const std::vector<mrpt::math::TPoint2D>& pts);
