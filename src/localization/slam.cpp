@@ -198,14 +198,24 @@ void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
   }
   last_odometry_ = odometry;
   if (!pts.empty()) updateSubmaps(rd);
-  if ((prior_ || o_.loop_cloud_window_m > 0) && !pts.empty()) {
-    recent_.emplace_back(i, pts);
-    // As a submap: so much path or so many scans (a robot standing still adds no path).
-    while (path_.back() - path_[recent_.front().first] > o_.submap_length_m ||
-           recent_.size() > static_cast<std::size_t>(o_.submap_max_scans)) {
-      recent_.pop_front();
-    }
+  if ((prior_ || o_.loop_cloud_window_m > 0) && !pts.empty()) remember(i, pts);
+  searchEvery(pts);
+  if (pending_loops_ &&
+      graph_.size() - nodes_at_last_optimise_ >= std::size_t(o_.optimise_every_nodes)) {
+    optimise();
   }
+}
+
+void Slam::remember(std::size_t node, const std::vector<mrpt::math::TPoint2D>& pts) {
+  recent_.emplace_back(node, pts);
+  // As a submap: so much path or so many scans (a robot standing still adds no path).
+  while (path_.back() - path_[recent_.front().first] > o_.submap_length_m ||
+         recent_.size() > static_cast<std::size_t>(o_.submap_max_scans)) {
+    recent_.pop_front();
+  }
+}
+
+void Slam::searchEvery(const std::vector<mrpt::math::TPoint2D>& pts) {
   if (path_.back() - last_attempt_path_ >= o_.loop_every_m) {
     last_attempt_path_ = path_.back();
     if (o_.loop_cloud_window_m > 0 && !pts.empty()) {
@@ -214,15 +224,9 @@ void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
       searchLoops(pts, pts);
     }
   }
-  if (prior_ && !pts.empty()) {
-    if (path_.back() - last_tie_attempt_ >= o_.loop_every_m) {
-      last_tie_attempt_ = path_.back();
-      tryTie(recentPoints());
-    }
-  }
-  if (pending_loops_ &&
-      graph_.size() - nodes_at_last_optimise_ >= std::size_t(o_.optimise_every_nodes)) {
-    optimise();
+  if (prior_ && !pts.empty() && path_.back() - last_tie_attempt_ >= o_.loop_every_m) {
+    last_tie_attempt_ = path_.back();
+    tryTie(recentPoints());
   }
 }
 

@@ -23,8 +23,8 @@
 // growing with the path since the last tie up to tie_max_window_m, loop_min_score, the ambiguity
 // test), around where the last tie put the trajectory; a tie is an edge from node 0 (held fixed
 // at the start) to the scan, of loop_sigma's weight, gated as loop closures are: a place the
-// building changed at does not drag the trajectory. Without ties (none accepted) the run is that of a first session moved to
-// the start.
+// building changed at does not drag the trajectory. Without ties (none accepted) the run is that of
+// a first session moved to the start.
 //
 // Cost: one small search per scan, a field rebuilt every refresh_scans scans, a branch and bound
 // per loop attempt, and an optimisation per optimise_every_nodes nodes with a new loop closure.
@@ -70,31 +70,31 @@ struct SlamOptions {
   // Loop closure.
   double loop_every_m = 2.0;           ///< path between loop closure attempts (0, 1000]
   double loop_min_path_m = 10.0;       ///< submaps at least this far back along the path [0, 1e6]
-  double loop_max_distance_m = 8.0;    ///< ... whose middle scan is this close (estimate) (0, 1000]
+  double loop_max_distance_m = 30.0;   ///< ... whose middle scan is this close (estimate) (0, 1000]
   int loop_max_candidates = 3;         ///< the nearest this many submaps per attempt [1, 100]
   double loop_window_m = 0.3;          ///< search window right after a loop closure [0, 20]
   double loop_window_per_m = 0.03;     ///< ... growing by this per metre of path since [0, 1]
-  double loop_max_window_m = 3.0;      ///< ... up to this [0, 20]
+  double loop_max_window_m = 20.0;     ///< ... up to this [0, 20]
   double loop_window_deg = 3.0;        ///< heading window right after a loop closure [0, 180]
   double loop_window_deg_per_m = 0.1;  ///< ... growing by this per metre of path [0, 10]
   double loop_max_window_deg = 10.0;   ///< ... up to this [0, 180]
   // Ties to a prior map (tieTo): searched as loop closures are, but the window may grow larger:
   // where the session leaves the prior's map, nothing but odometry holds the trajectory.
-  double tie_max_window_m = 3.0;     ///< a tie's window grows up to this [0, 50]
-  double tie_max_window_deg = 10.0;  ///< ... and its heading window up to this [0, 180]
-  double loop_min_score = 0.55;        ///< a loop closure's points' mean field value [0, 1]
-  double loop_ambiguity_ratio = 0.9;   ///< runner-up / best above this: ambiguous [0, 1]
-  double loop_ambiguity_m = 0.4;       ///< runner-ups this far from the best count (0, 20]
+  double tie_max_window_m = 3.0;      ///< a tie's window grows up to this [0, 50]
+  double tie_max_window_deg = 10.0;   ///< ... and its heading window up to this [0, 180]
+  double loop_min_score = 0.55;       ///< a loop closure's points' mean field value [0, 1]
+  double loop_ambiguity_ratio = 0.9;  ///< runner-up / best above this: ambiguous [0, 1]
+  double loop_ambiguity_m = 0.4;      ///< runner-ups this far from the best count (0, 20]
   /// The window grows with the path between the scan and the submap through the graph (across
   /// loop closures), not with the path since the last loop closure anywhere.
-  bool loop_window_graph = false;
+  bool loop_window_graph = true;
   /// A loop closure this far (m) from the pose's estimate is optimised at once, so that the next
   /// searches start from corrected estimates; 0: only every optimise_every_nodes [0, 1000].
-  double loop_optimise_m = 0.0;
+  double loop_optimise_m = 0.2;
   /// A loop search whose window is at least this wide (m) matches the last submap_length_m of
   /// scans (as the ties to a prior map do), not the current scan alone: a wide window holds
   /// more places one scan fits by chance. 0: never [0, 20].
-  double loop_cloud_window_m = 0.0;
+  double loop_cloud_window_m = 3.0;
   // Optimisation.
   int optimise_every_nodes = 1000;  ///< nodes between optimisations with new loops [1, 1e6]
   int max_iterations = 100;         ///< Levenberg-Marquardt iterations per run [1, 10000]
@@ -158,13 +158,16 @@ class Slam {
  private:
   mrpt::poses::CPose2D frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd);
   void updateSubmaps(const RangeData& rd);
+  /// Keeps node's hits among the recent scans (the last submap_length_m of path).
+  void remember(std::size_t node, const std::vector<mrpt::math::TPoint2D>& pts);
+  /// The loop search and the tie to a prior map, each every loop_every_m of path.
+  void searchEvery(const std::vector<mrpt::math::TPoint2D>& pts);
   /// `cloud` is what the searches match (`pts`, the scan's hits, or the recent scans').
   void searchLoops(const std::vector<mrpt::math::TPoint2D>& pts,
                    const std::vector<mrpt::math::TPoint2D>& cloud);
   /// Whether a loop closure was added; `moved_m`: how far it lies from the pose's estimate.
   bool tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts,
-               const std::vector<mrpt::math::TPoint2D>& cloud, double uncertain_m,
-               double& moved_m);
+               const std::vector<mrpt::math::TPoint2D>& cloud, double uncertain_m, double& moved_m);
   /// A prior-map edge to the last node, when the search finds one place.
   void tryTie(const std::vector<mrpt::math::TPoint2D>& pts);
   /// The hits of the scans of the last submap_length_m of path, in the last scan's frame (as
