@@ -80,7 +80,7 @@ struct SlamOptions {
   double loop_max_window_deg = 10.0;   ///< ... up to this [0, 180]
   // Ties to a prior map (tieTo): searched as loop closures are, but the window may grow larger:
   // where the session leaves the prior's map, nothing but odometry holds the trajectory.
-  double tie_max_window_m = 20.0;     ///< a tie's window grows up to this [0, 50]
+  double tie_max_window_m = 6.0;      ///< a tie's window grows up to this [0, 50]
   double tie_max_window_deg = 10.0;   ///< ... and its heading window up to this [0, 180]
   double loop_min_score = 0.55;       ///< a loop closure's points' mean field value [0, 1]
   double loop_ambiguity_ratio = 0.9;  ///< runner-up / best above this: ambiguous [0, 1]
