@@ -30,7 +30,7 @@ void pointCells(const LikelihoodField& field, const std::vector<mrpt::math::TPoi
 }
 
 /// Each distinct cell of `all` once, counted as often as it occurs there.
-Cells merged(const Cells& all) {
+Cells distinctCells(const Cells& all) {
   std::vector<std::pair<int, int>> yx(all.x.size());
   for (std::size_t i = 0; i < yx.size(); ++i) yx[i] = {all.y[i], all.x[i]};
   std::sort(yx.begin(), yx.end());
@@ -144,7 +144,7 @@ std::vector<Block> topLevel(const LikelihoodField& field,
   for (int t = -turns, i = 0; t <= turns; ++t, ++i) {
     const mrpt::poses::CPose2D at(guess.x(), guess.y(), guess.phi() + t * step_rad);
     pointCells(field, pts, at, h.points[i]);
-    if (!h.merged.empty()) h.merged[i] = merged(h.points[i]);
+    if (!h.merged.empty()) h.merged[i] = distinctCells(h.points[i]);
     latticeSums(
         h.boundCells(i), -shift, -shift, K2, side, side,
         [&](int x, int y) { return field.coarserUnits(x, y); }, units);

@@ -311,11 +311,15 @@ void Slam::searchLoops(const std::vector<mrpt::math::TPoint2D>& pts,
   if (optimise_now) optimise();
 }
 
+double Slam::searchWindow(double uncertain_m, double max_m) const {
+  return std::min(max_m, o_.loop_window_m + o_.loop_window_per_m * uncertain_m);
+}
+
 bool Slam::searchPlace(const LikelihoodField& field, const std::vector<mrpt::math::TPoint2D>& pts,
                        const mrpt::poses::CPose2D& guess, double uncertain_m, double max_m,
                        double max_deg, std::size_t& proposed, std::size_t& ambiguous,
                        mrpt::poses::CPose2D& found) const {
-  const double window = std::min(max_m, o_.loop_window_m + o_.loop_window_per_m * uncertain_m);
+  const double window = searchWindow(uncertain_m, max_m);
   const double window_deg =
       std::min(max_deg, o_.loop_window_deg + o_.loop_window_deg_per_m * uncertain_m);
   const FieldMatch best =
@@ -344,7 +348,7 @@ bool Slam::tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts
   const mrpt::poses::CPose2D guess = graph_.pose(i) - graph_.pose(s.anchor());
   mrpt::poses::CPose2D found;
   const bool wide = o_.loop_cloud_window_m > 0 &&
-                    o_.loop_window_m + o_.loop_window_per_m * uncertain_m >= o_.loop_cloud_window_m;
+                    searchWindow(uncertain_m, o_.loop_max_window_m) >= o_.loop_cloud_window_m;
   if (!searchPlace(s.field(), wide ? cloud : pts, guess, uncertain_m, o_.loop_max_window_m,
                    o_.loop_max_window_deg, stats_.loops_proposed, stats_.loops_ambiguous, found)) {
     return false;

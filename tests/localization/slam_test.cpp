@@ -176,10 +176,14 @@ TEST(FieldMatcher, EachCoarseLevelIsTheLargestValueOfItsBlock) {
   int checked = 0, nonzero = 0;
   for (int y = -LikelihoodField::kCoarser - 2; y < h; y += 3) {
     for (int x = -LikelihoodField::kCoarser - 2; x < w; x += 3) {
-      ASSERT_EQ(field.coarse(x, y), blockMax(x, y, LikelihoodField::kCoarse)) << x << "," << y;
-      ASSERT_EQ(field.coarser(x, y), blockMax(x, y, LikelihoodField::kCoarser)) << x << "," << y;
+      ASSERT_EQ(field.coarseUnits(x, y) * LikelihoodField::kUnit,
+                blockMax(x, y, LikelihoodField::kCoarse))
+          << x << "," << y;
+      ASSERT_EQ(field.coarserUnits(x, y) * LikelihoodField::kUnit,
+                blockMax(x, y, LikelihoodField::kCoarser))
+          << x << "," << y;
       ++checked;
-      nonzero += field.coarser(x, y) > 0;
+      nonzero += field.coarserUnits(x, y) > 0;
     }
   }
   EXPECT_GT(checked, 1000);
@@ -214,7 +218,8 @@ TEST(FieldMatcher, BranchAndBoundFindsTheBestOfAnExhaustiveSearch) {
 }
 
 // A room symmetric under a half turn: its scan fits where it was taken and at the image of that
-// place; searchPlaces names both, best first as searchWide's best and runner-up, and no place twice.
+// place; searchPlaces names both, best first as searchWide's best and runner-up, and no place
+// twice.
 TEST(FieldMatcher, EveryPlaceNearTheBestIsFoundOnce) {
   mrpt::maps::COccupancyGridMap2D grid(-6, 6, -6, 6, 0.05f);
   const CPose2D at(1.0, 0.5, 0.3), image(-1.0, -0.5, 0.3 - M_PI);
@@ -267,8 +272,7 @@ TEST(SlamOptions, BadValuesAreErrorsNamingTheKey) {
     SlamOptions().load(IniFile::fromText("[slam]\ntie_max_window_m = 0.1\n", "x.ini"));
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("[slam] tie_max_window_m"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("[slam] tie_max_window_m"), std::string::npos) << e.what();
   }
 }
 

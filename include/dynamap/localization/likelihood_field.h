@@ -47,14 +47,12 @@ class LikelihoodField {
   double cell(int cx, int cy) const {
     if (cx < 0 || cy < 0 || cx >= w_ || cy >= h_) return 0.0;
     const std::uint8_t v = fine_[cx + cy * w_];
-    return v == kUnknown ? 0.0 : v * (1.0 / kMax);
+    return v == kUnknown ? 0.0 : v * kUnit;
   }
   /// The largest value over cells [cx, cx + kCoarse) x [cy, cy + kCoarse), in units of kUnit.
   int coarseUnits(int cx, int cy) const { return blockAt(coarse_, kCoarse, cx, cy); }
   /// The largest value over cells [cx, cx + kCoarser) x [cy, cy + kCoarser), in units of kUnit.
   int coarserUnits(int cx, int cy) const { return blockAt(coarser_, kCoarser, cx, cy); }
-  double coarse(int cx, int cy) const { return coarseUnits(cx, cy) * kUnit; }
-  double coarser(int cx, int cy) const { return coarserUnits(cx, cy) * kUnit; }
   /// Bilinear interpolation at (x, y) and its gradient.
   double interpolate(double x, double y, double& gx, double& gy) const;
   std::size_t bytes() const { return fine_.size() + coarse_.size() + coarser_.size(); }

@@ -12,9 +12,13 @@
 // the submap's anchor to each scan matched, and loop-closure edges from older submaps' anchors.
 // A loop closure is searched for every loop_every_m of path, against finished submaps at least
 // loop_min_path_m of path back, within a window that grows with the path since the last loop
-// closure (the pose's uncertainty), by branch and bound. It is proposed when the best pose
-// scores loop_min_score and no pose far from it scores nearly as well (loop_ambiguity_ratio: a
-// symmetric corridor is no evidence); the optimiser's gate rejects what is still inconsistent.
+// closure or, with loop_window_graph, with the path between the scan and the submap through the
+// graph (the pose's uncertainty), by branch and bound; a window at least loop_cloud_window_m
+// wide is searched with the recent scans' hits (as a tie is), not the scan's alone. A closure is
+// proposed when the best pose scores loop_min_score and no pose far from it scores nearly as
+// well (loop_ambiguity_ratio: a symmetric corridor is no evidence); the optimiser's gate rejects
+// what is still inconsistent. One farther than loop_optimise_m from the estimate is optimised at
+// once.
 //
 // Tied to a prior map (tieTo, a later session against an earlier one's S): the log's first pose
 // is the start found in the prior map's frame, and every loop_every_m of path the hits of the
@@ -168,6 +172,9 @@ class Slam {
   /// Whether a loop closure was added; `moved_m`: how far it lies from the pose's estimate.
   bool tryLoop(const Submap& s, const std::vector<mrpt::math::TPoint2D>& pts,
                const std::vector<mrpt::math::TPoint2D>& cloud, double uncertain_m, double& moved_m);
+  /// A search's window (m) for a pose this uncertain (m of path): loop_window_m, growing by
+  /// loop_window_per_m, up to max_m.
+  double searchWindow(double uncertain_m, double max_m) const;
   /// A prior-map edge to the last node, when the search finds one place.
   void tryTie(const std::vector<mrpt::math::TPoint2D>& pts);
   /// The hits of the scans of the last submap_length_m of path, in the last scan's frame (as
