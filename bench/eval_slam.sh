@@ -4,7 +4,7 @@
 # usage: [EVAL_SLAM_LOGS="intel orebro"] [EVAL_SLAM_CONFIG=my.ini] \
 #          bench/eval_slam.sh DYNAMAP DATASETS OUT [SEEDS] [MAP_ARGS]
 #
-# For each corrected CARMEN log of DATASETS/carmen/ and each seed of SEEDS ("1 2 3"):
+# For each corrected CARMEN log of DATASETS/carmen/ and each seed of SEEDS ("1 2 3 4 5 6"):
 #   dynamap perturb (the default noise: 3 %/m translation, 3 %/rad + 0.005 rad/m heading,
 #   0.002 rad/m heading bias) writes the drifting odometry and the known poses once (kept in OUT
 #   between runs: the same log and seed give the same bytes);
@@ -22,7 +22,7 @@ set -euo pipefail
 DYNAMAP=$1
 DATASETS=$2
 OUT=$3
-SEEDS=${4:-1 2 3}
+SEEDS=${4:-1 2 3 4 5 6}
 MAP_ARGS=${5:-}
 # The environment may narrow the logs or change the configuration (experiments).
 LOGS=${EVAL_SLAM_LOGS:-freiburg-079 intel freiburg-campus orebro}
