@@ -216,17 +216,21 @@ void Slam::remember(std::size_t node, const std::vector<mrpt::math::TPoint2D>& p
 }
 
 void Slam::searchEvery(const std::vector<mrpt::math::TPoint2D>& pts) {
-  if (path_.back() - last_attempt_path_ >= o_.loop_every_m) {
+  const bool loop_due = path_.back() - last_attempt_path_ >= o_.loop_every_m;
+  const bool tie_due =
+      prior_ && !pts.empty() && path_.back() - last_tie_attempt_ >= o_.loop_every_m;
+  const bool loop_cloud = loop_due && o_.loop_cloud_window_m > 0 && !pts.empty();
+  // The recent scans' cloud once for both searches: it depends on the front end's poses only,
+  // which a loop closure's optimisation leaves as they are.
+  std::vector<mrpt::math::TPoint2D> cloud;
+  if (loop_cloud || tie_due) cloud = recentPoints();
+  if (loop_due) {
     last_attempt_path_ = path_.back();
-    if (o_.loop_cloud_window_m > 0 && !pts.empty()) {
-      searchLoops(pts, recentPoints());
-    } else {
-      searchLoops(pts, pts);
-    }
+    searchLoops(pts, loop_cloud ? cloud : pts);
   }
-  if (prior_ && !pts.empty() && path_.back() - last_tie_attempt_ >= o_.loop_every_m) {
+  if (tie_due) {
     last_tie_attempt_ = path_.back();
-    tryTie(recentPoints());
+    tryTie(cloud);
   }
 }
 

@@ -139,7 +139,6 @@ TEST(SlamOdometryCheck, OdometryThatLaysTheScansBetterIsKept) {
   EXPECT_LT(alignedError(dir + "/off/poses.txt", dir + "/gt.txt"), 0.05);
 }
 
-// The front end with point-to-line ICP on the submap's cells instead of MRPT's ICP.
 // Loop closures found with the last metres of scans (laid out by the front end, in the current
 // scan's frame) close the loop as well as those of the scan alone: a cloud in a wrong frame
 // would find no place or a wrong one.
@@ -154,6 +153,7 @@ TEST_F(SlamLoop, LoopSearchesMatchingTheRecentScansCloseTheLoopToo) {
             std::string::npos);
 }
 
+// The front end with point-to-line ICP on the submap's cells instead of MRPT's ICP.
 TEST_F(SlamLoop, APointToLineFrontEndRemovesTheDriftToo) {
   const double odo = alignedError(*dir_ + "/odo/poses.txt", *dir_ + "/gt.txt");
   const double line = alignedError(*dir_ + "/line/poses.txt", *dir_ + "/gt.txt");
