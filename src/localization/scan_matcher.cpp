@@ -20,6 +20,7 @@
 #include "dynamap/base/ini.h"
 #include "dynamap/base/option_table.h"
 #include "dynamap/localization/icp_module.h"
+#include "pose_constraint.h"
 
 namespace dynamap {
 namespace {
@@ -106,12 +107,6 @@ Eigen::Vector2d wallPoint(const DynamicGridMap& map, int cx, int cy, const CellW
   return {map.idx2x(cx) + res * cw.wx / cw.w_sum, map.idx2y(cy) + res * cw.wy / cw.w_sum};
 }
 
-/// The derivative of a point's distance along the unit direction `n` with respect to the pose
-/// (x, y, heading), for the point at (rx, ry) from the robot, rotated into the map's frame.
-Eigen::Vector3d poseJacobian(const Eigen::Vector2d& n, double rx, double ry) {
-  return {n.x(), n.y(), -n.x() * ry + n.y() * rx};
-}
-
 /// S's occupied cells in the box around the scan's end points seen from `guess`, each as the
 /// centroid of the occupied cells of its 3x3 neighbourhood weighted by their log-odds. A wall
 /// that lies on the border between two rows of cells fills both rows: their centres are half a
@@ -153,29 +148,6 @@ void mapPoints(const DynamicGridMap& map, const std::vector<mrpt::math::TPoint2D
     }
   }
   out.mark_as_modified();
-}
-
-/// The guess moved by ICP's correction only along the directions (x, y, heading) that the
-/// inliers' information `info` constrains: eigenvalues per inlier of at least min_constraint.
-mrpt::poses::CPose2D keepConstrained(const mrpt::poses::CPose2D& guess,
-                                     const mrpt::poses::CPose2D& matched,
-                                     const Eigen::Matrix3d& info, ScanMatchResult& r,
-                                     const ScanMatchOptions& o) {
-  if (r.inliers == 0) return matched;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(info / static_cast<double>(r.inliers));
-  const Eigen::Vector3d delta(matched.x() - guess.x(), matched.y() - guess.y(),
-                              mrpt::math::wrapToPi(matched.phi() - guess.phi()));
-  Eigen::Vector3d kept = Eigen::Vector3d::Zero();
-  r.degenerate_directions = 0;
-  for (int i = 0; i < 3; ++i) {
-    const Eigen::Vector3d v = eig.eigenvectors().col(i);
-    if (eig.eigenvalues()(i) >= o.min_constraint) {
-      kept += v.dot(delta) * v;
-    } else {
-      ++r.degenerate_directions;
-    }
-  }
-  return {guess.x() + kept.x(), guess.y() + kept.y(), mrpt::math::wrapToPi(guess.phi() + kept.z())};
 }
 
 }  // namespace
@@ -346,6 +318,15 @@ Eigen::Matrix3d inlierInformation(const mrpt::maps::CSimplePointsMap& reference,
     n = normals[k];
     return true;
   });
+}
+
+/// keepConstrained() on a match's inliers, counting the directions kept at the guess in `r`.
+mrpt::poses::CPose2D constrained(const mrpt::poses::CPose2D& guess,
+                                 const mrpt::poses::CPose2D& matched, const Eigen::Matrix3d& info,
+                                 ScanMatchResult& r, const ScanMatchOptions& o) {
+  if (r.inliers == 0) return matched;
+  return keepConstrained(guess, matched, info / static_cast<double>(r.inliers), o.min_constraint,
+                         r.degenerate_directions);
 }
 
 /// The last judgement of a match: a correction too large to be drift, or too few inliers, keeps
@@ -530,7 +511,7 @@ void lineMatch(const DynamicGridMap& map, const std::vector<mrpt::math::TPoint2D
   const mrpt::poses::CPose2D matched = pointToLine(walls, on_s, start, o.line_distance_m, res,
                                                    o.icp_max_iterations, r.icp_iterations);
   const Eigen::Matrix3d fisher = wallInformation(walls, pts, matched, o, res, r);
-  accept(guess, matched, keepConstrained(start, matched, fisher, r, o), o, r);
+  accept(guess, matched, constrained(start, matched, fisher, r, o), o, r);
 }
 
 }  // namespace
@@ -578,8 +559,28 @@ ScanMatchResult ScanMatcher::match(const DynamicGridMap& map, const RangeData& r
   //    ICP's answer is noise (or the pull of the map's edge), and the guess is kept.
   const Eigen::Matrix3d fisher =
       inlierInformation(reference, normals, pts, matched, o.inlier_distance_m, r);
-  accept(guess, matched, keepConstrained(start, matched, fisher, r, o), o, r);
+  accept(guess, matched, constrained(start, matched, fisher, r, o), o, r);
   return r;
+}
+
+mrpt::poses::CPose2D keepConstrained(const mrpt::poses::CPose2D& guess,
+                                     const mrpt::poses::CPose2D& matched,
+                                     const Eigen::Matrix3d& info_per_point, double min_constraint,
+                                     int& degenerate) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(info_per_point);
+  const Eigen::Vector3d delta(matched.x() - guess.x(), matched.y() - guess.y(),
+                              mrpt::math::wrapToPi(matched.phi() - guess.phi()));
+  Eigen::Vector3d kept = Eigen::Vector3d::Zero();
+  degenerate = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d v = eig.eigenvectors().col(i);
+    if (eig.eigenvalues()(i) >= min_constraint) {
+      kept += v.dot(delta) * v;
+    } else {
+      ++degenerate;
+    }
+  }
+  return {guess.x() + kept.x(), guess.y() + kept.y(), mrpt::math::wrapToPi(guess.phi() + kept.z())};
 }
 
 }  // namespace dynamap
