@@ -46,6 +46,11 @@ std::vector<Option<O>> graphRows() {
        "loop-closure edges: translation sd"},
       {"loop_sigma_deg", &O::loop_sigma_deg, Range::openClosed(0, 90), "deg",
        "loop-closure edges: heading sd"},
+      {"scan_to_scan", &O::scan_to_scan, Range{}, "",
+       "where the submap match fails, the scan is matched to the one before it with every "
+       "return, far ones included, and the turn between them replaces odometry's"},
+      {"scan_to_scan_sigma_deg", &O::scan_to_scan_sigma_deg, Range::openClosed(0, 90), "deg",
+       "scan-to-scan edges: heading sd (their translation is odometry's)"},
   };
 }
 
@@ -167,6 +172,8 @@ void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
                       std::isfinite(mount.yaw());
   std::vector<mrpt::math::TPoint2D> pts;
   if (usable) pts = hitPoints(rd, static_cast<std::size_t>(o_.point_stride));
+  ScanReturns returns;
+  if (usable && o_.scan_to_scan) returns = ScanReturns::of(rd);
   const std::size_t i = graph_.size();
   ++stats_.scans;
   if (i == 0) {
@@ -175,20 +182,17 @@ void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
     graph_.addNode(odometry);
   } else {
     const mrpt::poses::CPose2D inc = odometry - last_odometry_;
+    last_step_matched_ = false;
+    // A scan with no hit short of the insertion range may still hold far returns.
     const mrpt::poses::CPose2D pose =
-        pts.empty() ? front_.back() + inc : frontEnd(front_.back() + inc, rd);
+        pts.empty() && returns.returns == 0
+            ? front_.back() + inc
+            : frontEnd(front_.back() + inc, rd, returns, !pts.empty());
     const mrpt::poses::CPose2D step = pose - front_.back();
     path_.push_back(path_.back() + std::hypot(step.x(), step.y()));
     front_.push_back(pose);
     graph_.addNode(graph_.pose(i - 1) + step);
-    // Odometry: sd grows with the distance and the turn; a floor keeps it invertible.
-    const double d = std::hypot(inc.x(), inc.y());
-    PoseEdge e{
-        i - 1, i, inc,
-        diagonalInformation(0.01 + o_.odometry_sigma_per_m * d,
-                            0.2 * kDegToRad + o_.odometry_sigma_per_rad * std::abs(inc.phi())),
-        EdgeKind::Odometry};
-    graph_.addEdge(e);
+    graph_.addEdge(stepEdge(inc, step));
     if (!active_.empty() && active_.front()->anchor() != i && stats_.matched > 0 &&
         last_match_ok_) {
       graph_.addEdge({active_.front()->anchor(), i, pose - front_[active_.front()->anchor()],
@@ -197,6 +201,7 @@ void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
     }
   }
   last_odometry_ = odometry;
+  previous_ = std::move(returns);
   if (!pts.empty()) updateSubmaps(rd);
   if ((prior_ || o_.loop_cloud_window_m > 0) && !pts.empty()) remember(i, pts);
   searchEvery(pts);
@@ -234,19 +239,50 @@ void Slam::searchEvery(const std::vector<mrpt::math::TPoint2D>& pts) {
   }
 }
 
-mrpt::poses::CPose2D Slam::frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd) {
-  last_match_ok_ = false;
-  if (active_.empty()) return guess;
-  const Submap& s = *active_.front();
-  const mrpt::poses::CPose2D anchor = front_[s.anchor()];
-  const ScanMatchResult r = matcher_.match(*s.map(), rd, guess - anchor);
-  if (!r.matched) {
-    ++stats_.fallbacks;
-    return guess;
+PoseEdge Slam::stepEdge(const mrpt::poses::CPose2D& inc, const mrpt::poses::CPose2D& step) const {
+  const std::size_t i = graph_.size() - 1;
+  // Odometry: sd grows with the distance and the turn; a floor keeps it invertible.
+  const double d = std::hypot(inc.x(), inc.y());
+  const double sigma_xy = 0.01 + o_.odometry_sigma_per_m * d;
+  if (last_step_matched_) {  // odometry's distance, the scans' turn
+    return {i - 1, i, step, diagonalInformation(sigma_xy, o_.scan_to_scan_sigma_deg * kDegToRad),
+            EdgeKind::Odometry};
   }
-  ++stats_.matched;
-  last_match_ok_ = true;
-  return anchor + r.pose;
+  return {i - 1, i, inc,
+          diagonalInformation(sigma_xy,
+                              0.2 * kDegToRad + o_.odometry_sigma_per_rad * std::abs(inc.phi())),
+          EdgeKind::Odometry};
+}
+
+mrpt::poses::CPose2D Slam::frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd,
+                                    const ScanReturns& returns, bool hits) {
+  last_match_ok_ = false;
+  if (hits && !active_.empty()) {
+    const Submap& s = *active_.front();
+    const mrpt::poses::CPose2D anchor = front_[s.anchor()];
+    const ScanMatchResult r = matcher_.match(*s.map(), rd, guess - anchor);
+    if (r.matched) {
+      ++stats_.matched;
+      last_match_ok_ = true;
+      return anchor + r.pose;
+    }
+    ++stats_.fallbacks;
+  }
+  if (returns.returns == 0 || previous_.returns == 0) return guess;
+  const ScanMatchOptions& m = matcher_.options();
+  ScanToScanLimits limits;
+  limits.max_correction_m = m.max_correction_m;
+  limits.max_correction_rad = m.max_correction_deg * kDegToRad;
+  limits.min_constraint = m.min_constraint;
+  const ScanToScanResult s2s = matchScans(previous_, returns, guess - front_.back(), limits);
+  if (!s2s.matched) return guess;
+  ++stats_.scan_to_scan;
+  last_step_matched_ = true;
+  // The turn only: on the campus log the matched turn is off by 0.13 degrees a step on average
+  // where odometry's is off by 0.28, but the matched step by 0.1-0.4 m where odometry's is off
+  // by a few centimetres (far returns off trees and bushes pin the heading, not the position).
+  const mrpt::poses::CPose2D odometry = guess - front_.back();
+  return front_.back() + mrpt::poses::CPose2D(odometry.x(), odometry.y(), s2s.increment.phi());
 }
 
 void Slam::updateSubmaps(const RangeData& rd) {

@@ -97,6 +97,7 @@ Json slamSummary(const SlamRun& run) {
   Json j = {{"scans", s.scans},
           {"front_end_matched", s.matched},
           {"front_end_fallbacks", s.fallbacks},
+          {"scans_matched_to_the_scan_before", s.scan_to_scan},
           {"submaps", s.submaps},
           {"loop_searches", s.loop_attempts},
           {"loop_closures",

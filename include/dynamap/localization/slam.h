@@ -46,6 +46,7 @@
 
 #include "dynamap/localization/pose_graph.h"
 #include "dynamap/localization/scan_matcher.h"
+#include "dynamap/localization/scan_to_scan.h"
 #include "dynamap/localization/submap.h"
 
 namespace dynamap {
@@ -71,6 +72,13 @@ struct SlamOptions {
   double match_sigma_deg = 0.5;          ///< ... heading sd (0, 90]
   double loop_sigma_m = 0.05;            ///< loop closures: translation sd (0, 10]
   double loop_sigma_deg = 1.0;           ///< ... heading sd (0, 90]
+  /// Where the submap match fails (or the scan has no hit short of the insertion range), the
+  /// scan is matched to the one before it with every return, far ones included
+  /// (scan_to_scan.h): in the open, the previous scan's far walls fix the turn that odometry
+  /// alone gets wrong. The matched turn replaces odometry's, in the front end and in the edge;
+  /// the distance stays odometry's.
+  bool scan_to_scan = true;
+  double scan_to_scan_sigma_deg = 0.1;  ///< scan-to-scan edges: heading sd (0, 90]
   // Loop closure.
   double loop_every_m = 2.0;           ///< path between loop closure attempts (0, 1000]
   double loop_min_path_m = 10.0;       ///< submaps at least this far back along the path [0, 1e6]
@@ -121,6 +129,8 @@ struct SlamOptions {
 /// Counts of a run, for summary.json.
 struct SlamStats {
   std::size_t scans = 0, matched = 0, fallbacks = 0, submaps = 0;
+  /// Scans placed by matching the scan before (scan_to_scan): fallbacks, and scans with no hit
+  std::size_t scan_to_scan = 0;
   std::size_t loop_attempts = 0;    ///< (node, submap) pairs searched
   std::size_t loops_proposed = 0;   ///< searches that found a pose scoring loop_min_score
   std::size_t loops_ambiguous = 0;  ///< ... dropped as ambiguous
@@ -160,7 +170,13 @@ class Slam {
   const SlamStats& stats() const;
 
  private:
-  mrpt::poses::CPose2D frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd);
+  /// The scan's pose: matched against the oldest active submap (when it has `hits`), or else
+  /// to the scan before it (scan_to_scan, setting last_step_matched_), or `guess`.
+  mrpt::poses::CPose2D frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd,
+                                const ScanReturns& returns, bool hits);
+  /// The edge from the scan before to the one just placed: odometry's increment `inc`, or with
+  /// last_step_matched_ the front end's `step` (odometry's distance, the matched turn).
+  PoseEdge stepEdge(const mrpt::poses::CPose2D& inc, const mrpt::poses::CPose2D& step) const;
   void updateSubmaps(const RangeData& rd);
   /// Keeps node's hits among the recent scans (the last submap_length_m of path).
   void remember(std::size_t node, const std::vector<mrpt::math::TPoint2D>& pts);
@@ -204,6 +220,8 @@ class Slam {
   std::size_t nodes_at_last_optimise_ = 0;
   bool pending_loops_ = false;
   bool last_match_ok_ = false;
+  bool last_step_matched_ = false;  // the last scan was placed by scan_to_scan
+  ScanReturns previous_;            // the last scan's returns (scan_to_scan), if it was usable
   std::unique_ptr<const LikelihoodField> prior_;  // tieTo's
   mrpt::poses::CPose2D prior_offset_;  // the prior's frame from the graph's, at the last tie
   double last_tie_attempt_ = 0, last_tie_path_ = 0;

@@ -1,0 +1,150 @@
+// Scan-to-scan matching: a scan aligned to the one before it with its far returns, and slam's
+// use of it where the submap match fails.
+
+#include "dynamap/localization/scan_to_scan.h"
+
+#include <gtest/gtest.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <cmath>
+#include <vector>
+
+#include "../test_util.h"
+#include "dynamap/localization/slam.h"
+#include "dynamap/sim/world.h"
+
+namespace dynamap {
+namespace {
+
+using mrpt::poses::CPose2D;
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr int kBeams = 361;
+constexpr double kAperture = M_PI;  // 180 degrees in half-degree steps, as a SICK LMS
+constexpr double kMaxRange = 80.0;
+constexpr double kInsertion = 8.0;  // every wall below lies beyond it: no hits at all
+
+/// Open ground: four buildings and a long wall at an angle, none nearer than 10 m to the path
+/// of headingErrorAfterOpenGround.
+sim::StaticWorld campus() {
+  sim::StaticWorld w;
+  auto box = [&](double x0, double y0, double x1, double y1) {
+    w.segments.push_back({{x0, y0}, {x1, y0}});
+    w.segments.push_back({{x1, y0}, {x1, y1}});
+    w.segments.push_back({{x1, y1}, {x0, y1}});
+    w.segments.push_back({{x0, y1}, {x0, y0}});
+  };
+  box(25, -35, 45, -13);
+  box(30, 13, 38, 40);
+  box(-20, 22, 5, 35);
+  box(-30, -40, -12, -18);
+  w.segments.push_back({{60, -25}, {66, 18}});  // a long wall at an angle
+  return w;
+}
+
+/// Two long parallel walls 3 m apart along x: nothing fixes a position along them.
+sim::StaticWorld corridor() {
+  sim::StaticWorld w;
+  w.segments.push_back({{-200, -1.5}, {200, -1.5}});
+  w.segments.push_back({{-200, 1.5}, {200, 1.5}});
+  return w;
+}
+
+RangeData scanFrom(const sim::StaticWorld& world, const CPose2D& pose) {
+  std::vector<float> ranges(kBeams, static_cast<float>(kMaxRange));
+  for (int i = 0; i < kBeams; ++i) {
+    const double a = -kAperture / 2 + i * kAperture / (kBeams - 1);
+    const sim::RayHit h = sim::castRay(world, {}, {pose.x(), pose.y()}, pose.phi() + a, kMaxRange);
+    if (h.hit() && h.range < kMaxRange) ranges[i] = static_cast<float>(h.range);
+  }
+  const auto scan = test::makeScan(ranges, kAperture, 0.0, static_cast<float>(kMaxRange));
+  return makeRangeData(*scan, kInsertion, 0.05 * kDeg);
+}
+
+double headingError(const CPose2D& a, const CPose2D& b) {
+  return std::abs(mrpt::math::wrapToPi(a.phi() - b.phi()));
+}
+
+TEST(ScanToScan, FarReturnsOnlyFixTheTurnAndTheStep) {
+  const auto world = campus();
+  const CPose2D a(0, 0, 0.2), b(1.0, 0.15, 0.2 + 4 * kDeg);
+  const ScanReturns earlier = ScanReturns::of(scanFrom(world, a));
+  const ScanReturns later = ScanReturns::of(scanFrom(world, b));
+  ASSERT_GT(later.returns, 100u);
+  const CPose2D truth = b - a;
+  // Odometry a degree and 6 cm off, as a metre of drifting wheel odometry can be.
+  for (const CPose2D& off : {CPose2D(0.05, -0.03, 1.0 * kDeg), CPose2D(-0.04, 0.02, -0.8 * kDeg)}) {
+    SCOPED_TRACE(off.asString());
+    const ScanToScanResult r = matchScans(earlier, later, truth + off, ScanToScanLimits{});
+    ASSERT_TRUE(r.matched);
+    EXPECT_LT(std::hypot(r.increment.x() - truth.x(), r.increment.y() - truth.y()), 0.01);
+    EXPECT_LT(headingError(r.increment, truth), 0.02 * kDeg);
+    EXPECT_EQ(r.degenerate_directions, 0);
+    EXPECT_GT(r.inliers, later.returns * 9 / 10);
+  }
+}
+
+TEST(ScanToScan, AlongAStraightCorridorTheGuessIsKeptAlongIt) {
+  const auto world = corridor();
+  const CPose2D a(0, 0, 0), b(1.0, 0.1, 1 * kDeg);
+  const ScanReturns earlier = ScanReturns::of(scanFrom(world, a));
+  const ScanReturns later = ScanReturns::of(scanFrom(world, b));
+  const CPose2D truth = b - a, guess = truth + CPose2D(0.2, 0.05, 0.5 * kDeg);
+  const ScanToScanResult r = matchScans(earlier, later, guess, ScanToScanLimits{});
+  ASSERT_TRUE(r.matched);
+  EXPECT_EQ(r.degenerate_directions, 1);
+  EXPECT_NEAR(r.increment.x(), guess.x(), 0.02);  // along: odometry's
+  EXPECT_NEAR(r.increment.y(), truth.y(), 0.01);  // across and the heading: the walls'
+  EXPECT_LT(headingError(r.increment, truth), 0.05 * kDeg);
+}
+
+TEST(ScanToScan, NothingInCommonKeepsTheGuess) {
+  const ScanReturns earlier = ScanReturns::of(scanFrom(campus(), CPose2D(0, 0, 0)));
+  const ScanReturns none = ScanReturns::of(scanFrom(sim::StaticWorld{}, CPose2D(0, 0, 0)));
+  EXPECT_EQ(none.returns, 0u);
+  const CPose2D guess(1, 0, 0);
+  for (const auto& [e, l] : {std::pair{&earlier, &none}, std::pair{&none, &earlier}}) {
+    const ScanToScanResult r = matchScans(*e, *l, guess, ScanToScanLimits{});
+    EXPECT_FALSE(r.matched);
+    EXPECT_EQ(r.increment, guess);
+  }
+  // Facing away: the later scan sees the buildings the earlier one had behind it.
+  const ScanReturns behind = ScanReturns::of(scanFrom(campus(), CPose2D(0, 0, M_PI)));
+  const ScanToScanResult r = matchScans(earlier, behind, CPose2D(0, 0, 0), ScanToScanLimits{});
+  EXPECT_FALSE(r.matched);
+}
+
+/// The front end's heading after driving 30 m through open ground on odometry whose heading
+/// drifts 0.3 degrees per metre, with scan_to_scan on or off.
+double headingErrorAfterOpenGround(bool scan_to_scan, std::size_t& placed) {
+  SlamOptions o;
+  o.scan_to_scan = scan_to_scan;
+  InsertionOptions insertion;
+  insertion.max_distance_insertion = kInsertion;
+  Slam slam(o, ScanMatchOptions{}, DynamicMapOptions{}, insertion);
+  const auto world = campus();
+  CPose2D truth(-5, -2, 0.1), odometry = truth;
+  for (int k = 0; k < 30; ++k) {
+    const CPose2D step(1.0, 0.0, k % 10 < 5 ? 2 * kDeg : -2 * kDeg);
+    slam.add(odometry, scanFrom(world, truth));
+    truth = truth + step;
+    odometry = odometry + (step + CPose2D(0, 0, 0.3 * kDeg));
+  }
+  slam.add(odometry, scanFrom(world, truth));
+  slam.finish();
+  placed = slam.stats().scan_to_scan;
+  return headingError(slam.poses().back(), truth) / kDeg;
+}
+
+TEST(ScanToScan, SlamHoldsTheHeadingInTheOpenWhereTheSubmapHasNothing) {
+  std::size_t on = 0, off = 0;
+  const double with = headingErrorAfterOpenGround(true, on);
+  const double without = headingErrorAfterOpenGround(false, off);
+  EXPECT_EQ(on, 30u);  // every scan after the first: the submaps hold no wall
+  EXPECT_EQ(off, 0u);
+  EXPECT_NEAR(without, 9.0, 0.5);  // odometry's 0.3 degrees per metre
+  EXPECT_LT(with, 0.1);
+}
+
+}  // namespace
+}  // namespace dynamap
