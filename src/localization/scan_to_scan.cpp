@@ -15,10 +15,10 @@ namespace {
 constexpr double kSearchRad = 0.05;   // a point looks at the earlier beams within this bearing
 constexpr int kCoarseIterations = 8;  // iterations with the wide pairing gate
 
-/// [m] how far a point at `range` may lie from its partner: wide while the guess's heading error
-/// (up to a degree, 1.4 m at 80 m) is being taken out, then tight.
-double pairingGate(double range, int iteration) {
-  return iteration < kCoarseIterations ? 0.3 + 0.02 * range : 0.1 + 0.01 * range;
+/// [m] how far a point at `range` may lie from its partner: `coarse` (wide) while the guess's
+/// heading error (up to a degree, 1.4 m at 80 m) is being taken out, then tight.
+double pairingGate(double range, bool coarse) {
+  return coarse ? 0.3 + 0.02 * range : 0.1 + 0.01 * range;
 }
 
 /// [m] a point within this of its segment is an inlier, and the Cauchy kernel's scale.
@@ -76,7 +76,7 @@ mrpt::poses::CPose2D align(const ScanReturns& earlier, const ScanReturns& later,
       const Eigen::Vector2d& p = later.point[i];
       const double rx = c * p.x() - s * p.y(), ry = s * p.x() + c * p.y();
       const Eigen::Vector2d g(pose.x() + rx, pose.y() + ry);
-      if (!pair(earlier, g, pairingGate(later.range[i], it), q, n)) continue;
+      if (!pair(earlier, g, pairingGate(later.range[i], it < kCoarseIterations), q, n)) continue;
       const double e = n.dot(g - q), k = inlierDistance(later.range[i]);
       const double w = 1.0 / (1.0 + (e * e) / (k * k));
       const Eigen::Vector3d j = poseJacobian(n, rx, ry);
@@ -125,7 +125,6 @@ ScanToScanResult matchScans(const ScanReturns& earlier, const ScanReturns& later
     return r;
   }
   const mrpt::poses::CPose2D matched = align(earlier, later, guess, limits.max_iterations);
-  r.aligned = matched;
   if (!std::isfinite(matched.x()) || !std::isfinite(matched.y()) || !std::isfinite(matched.phi())) {
     r.rejected = "diverged";
     return r;
@@ -133,7 +132,6 @@ ScanToScanResult matchScans(const ScanReturns& earlier, const ScanReturns& later
   // Inliers at the matched pose, and what they pin down.
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
   Eigen::Vector2d q, n;
-  const int last = limits.max_iterations;  // the tight gate
   for (std::size_t i = 0; i < later.point.size(); ++i) {
     if (!later.valid[i]) continue;
     const Eigen::Vector2d g = [&] {
@@ -141,7 +139,7 @@ ScanToScanResult matchScans(const ScanReturns& earlier, const ScanReturns& later
           matched + mrpt::math::TPoint2D(later.point[i].x(), later.point[i].y());
       return Eigen::Vector2d(t.x, t.y);
     }();
-    if (!pair(earlier, g, pairingGate(later.range[i], last), q, n)) continue;
+    if (!pair(earlier, g, pairingGate(later.range[i], false), q, n)) continue;
     ++r.paired;
     if (std::abs(n.dot(g - q)) > inlierDistance(later.range[i])) continue;
     ++r.inliers;

@@ -7,6 +7,7 @@
 #include <mrpt/math/wrap2pi.h>
 
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include "../test_util.h"
@@ -76,7 +77,8 @@ TEST(ScanToScan, FarReturnsOnlyFixTheTurnAndTheStep) {
   for (const CPose2D& off : {CPose2D(0.05, -0.03, 1.0 * kDeg), CPose2D(-0.04, 0.02, -0.8 * kDeg)}) {
     SCOPED_TRACE(off.asString());
     const ScanToScanResult r = matchScans(earlier, later, truth + off, ScanToScanLimits{});
-    ASSERT_TRUE(r.matched);
+    ASSERT_TRUE(r.matched) << r.rejected;
+    EXPECT_EQ(r.rejected, nullptr);
     EXPECT_LT(std::hypot(r.increment.x() - truth.x(), r.increment.y() - truth.y()), 0.01);
     EXPECT_LT(headingError(r.increment, truth), 0.02 * kDeg);
     EXPECT_EQ(r.degenerate_directions, 0);
@@ -103,15 +105,19 @@ TEST(ScanToScan, NothingInCommonKeepsTheGuess) {
   const ScanReturns none = ScanReturns::of(scanFrom(sim::StaticWorld{}, CPose2D(0, 0, 0)));
   EXPECT_EQ(none.returns, 0u);
   const CPose2D guess(1, 0, 0);
-  for (const auto& [e, l] : {std::pair{&earlier, &none}, std::pair{&none, &earlier}}) {
+  // Nothing to align; or nothing in the earlier scan for the later one's points to pair with.
+  for (const auto& [e, l, why] : {std::tuple{&earlier, &none, "too few returns"},
+                                  std::tuple{&none, &earlier, "too few inliers"}}) {
     const ScanToScanResult r = matchScans(*e, *l, guess, ScanToScanLimits{});
     EXPECT_FALSE(r.matched);
+    EXPECT_STREQ(r.rejected, why);
     EXPECT_EQ(r.increment, guess);
   }
   // Facing away: the later scan sees the buildings the earlier one had behind it.
   const ScanReturns behind = ScanReturns::of(scanFrom(campus(), CPose2D(0, 0, M_PI)));
   const ScanToScanResult r = matchScans(earlier, behind, CPose2D(0, 0, 0), ScanToScanLimits{});
   EXPECT_FALSE(r.matched);
+  EXPECT_STREQ(r.rejected, "too few inliers");
 }
 
 /// The front end's heading after driving 30 m through open ground on odometry whose heading

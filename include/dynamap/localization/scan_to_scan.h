@@ -45,7 +45,6 @@ struct ScanToScanResult {
   /// Why not matched: "too few returns", "diverged", "too few inliers", "correction too large";
   /// nullptr when matched.
   const char* rejected = nullptr;
-  mrpt::poses::CPose2D aligned;   ///< where the alignment ended (before any rejection)
   std::size_t paired = 0;         ///< points paired with a segment of the earlier scan
   std::size_t inliers = 0;        ///< ... within the inlier distance after the match
   int degenerate_directions = 0;  ///< pose directions kept at the guess
