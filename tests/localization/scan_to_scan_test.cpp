@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "../test_util.h"
@@ -150,6 +151,48 @@ TEST(ScanToScan, SlamHoldsTheHeadingInTheOpenWhereTheSubmapHasNothing) {
   EXPECT_EQ(off, 0u);
   EXPECT_NEAR(without, 9.0, 0.5);  // odometry's 0.3 degrees per metre
   EXPECT_LT(with, 0.1);
+}
+
+/// A 10 x 7 m room with a pillar off its middle: every wall within the insertion range.
+sim::StaticWorld room() {
+  sim::StaticWorld w;
+  const std::vector<std::pair<double, double>> c = {{-4, -3}, {6, -3}, {6, 4}, {-4, 4}};
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    const auto& a = c[k];
+    const auto& b = c[(k + 1) % c.size()];
+    w.segments.push_back({{a.first, a.second}, {b.first, b.second}});
+  }
+  w.segments.push_back({{2, 1}, {3, 1}});
+  w.segments.push_back({{3, 1}, {3, 1.6}});
+  return w;
+}
+
+/// The front end's heading after turning once round on the spot in 30-degree steps that
+/// odometry measures 20 % short (6 degrees a step: past the submap match's search and its
+/// largest correction), with the matched turn in the guess (guess_sigma_deg > 0) or not.
+double headingErrorAfterTurningOnTheSpot(double guess_sigma_deg) {
+  SlamOptions o;
+  o.scan_to_scan_guess_sigma_deg = guess_sigma_deg;
+  InsertionOptions insertion;
+  insertion.max_distance_insertion = kInsertion;
+  Slam slam(o, ScanMatchOptions{}, DynamicMapOptions{}, insertion);
+  const auto world = room();
+  CPose2D truth(0, 0, 0), odometry = truth;
+  for (int k = 0; k < 12; ++k) {
+    slam.add(odometry, scanFrom(world, truth));
+    truth = truth + CPose2D(0, 0, 30 * kDeg);
+    odometry = odometry + CPose2D(0, 0, 24 * kDeg);
+  }
+  slam.add(odometry, scanFrom(world, truth));
+  slam.finish();
+  return headingError(slam.poses().back(), truth) / kDeg;
+}
+
+TEST(ScanToScan, TheMatchedTurnSharpensTheSubmapMatchsGuess) {
+  EXPECT_LT(headingErrorAfterTurningOnTheSpot(0.4), 0.2);
+  // Alone, each step's 6 degrees is too far for the submap match and for the fallback's
+  // scan-to-scan limits: odometry's error stays.
+  EXPECT_GT(headingErrorAfterTurningOnTheSpot(0.0), 30.0);
 }
 
 }  // namespace

@@ -79,6 +79,11 @@ struct SlamOptions {
   /// the distance stays odometry's.
   bool scan_to_scan = true;
   double scan_to_scan_sigma_deg = 0.1;  ///< scan-to-scan edges: heading sd (0, 90]
+  /// Every scan matched to the one before: the matched turn, taken with this sd, and odometry's,
+  /// with its edge's sd, averaged by their variances make the submap match's guess (a large
+  /// turn's odometry error otherwise starts the match a degree or more off). 0: only where the
+  /// submap match fails. [0, 90]
+  double scan_to_scan_guess_sigma_deg = 0.4;
   // Loop closure.
   double loop_every_m = 2.0;           ///< path between loop closure attempts (0, 1000]
   double loop_min_path_m = 10.0;       ///< submaps at least this far back along the path [0, 1e6]
@@ -177,6 +182,12 @@ class Slam {
   /// The edge from the scan before to the one just placed: odometry's increment `inc`, or with
   /// last_step_matched_ the front end's `step` (odometry's distance, the matched turn).
   PoseEdge stepEdge(const mrpt::poses::CPose2D& inc, const mrpt::poses::CPose2D& step) const;
+  /// [rad] odometry's heading sd over a step that turned `turn` (its edge's).
+  double odometryHeadingSigma(double turn) const;
+  /// The scan's `returns` matched to the scan before (previous_) from `odometry`'s increment;
+  /// not matched when either has no returns.
+  ScanToScanResult matchPrevious(const ScanReturns& returns,
+                                 const mrpt::poses::CPose2D& odometry) const;
   void updateSubmaps(const RangeData& rd);
   /// Keeps node's hits among the recent scans (the last submap_length_m of path).
   void remember(std::size_t node, const std::vector<mrpt::math::TPoint2D>& pts);
