@@ -121,26 +121,39 @@ TEST(ScanToScan, NothingInCommonKeepsTheGuess) {
   EXPECT_STREQ(r.rejected, "too few inliers");
 }
 
-/// The front end's heading after driving 30 m through open ground on odometry whose heading
-/// drifts 0.3 degrees per metre, with scan_to_scan on or off.
-double headingErrorAfterOpenGround(bool scan_to_scan, std::size_t& placed) {
-  SlamOptions o;
-  o.scan_to_scan = scan_to_scan;
+/// Slam's heading error [deg] at the end of `steps` from `truth`, each scan seen in `world`,
+/// odometry measuring step k as `measured(k, step)`; `placed`: the scans matched to the one
+/// before.
+template <class Measured>
+double headingErrorAtTheEnd(const SlamOptions& o, const sim::StaticWorld& world, CPose2D truth,
+                            const std::vector<CPose2D>& steps, Measured measured,
+                            std::size_t& placed) {
   InsertionOptions insertion;
   insertion.max_distance_insertion = kInsertion;
   Slam slam(o, ScanMatchOptions{}, DynamicMapOptions{}, insertion);
-  const auto world = campus();
-  CPose2D truth(-5, -2, 0.1), odometry = truth;
-  for (int k = 0; k < 30; ++k) {
-    const CPose2D step(1.0, 0.0, k % 10 < 5 ? 2 * kDeg : -2 * kDeg);
+  CPose2D odometry = truth;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
     slam.add(odometry, scanFrom(world, truth));
-    truth = truth + step;
-    odometry = odometry + (step + CPose2D(0, 0, 0.3 * kDeg));
+    truth = truth + steps[k];
+    odometry = odometry + measured(k, steps[k]);
   }
   slam.add(odometry, scanFrom(world, truth));
   slam.finish();
   placed = slam.stats().scan_to_scan;
   return headingError(slam.poses().back(), truth) / kDeg;
+}
+
+/// The front end's heading after driving 30 m through open ground on odometry whose heading
+/// drifts 0.3 degrees per metre, with scan_to_scan on or off.
+double headingErrorAfterOpenGround(bool scan_to_scan, std::size_t& placed) {
+  SlamOptions o;
+  o.scan_to_scan = scan_to_scan;
+  std::vector<CPose2D> steps;
+  for (int k = 0; k < 30; ++k) steps.emplace_back(1.0, 0.0, k % 10 < 5 ? 2 * kDeg : -2 * kDeg);
+  const auto drift = [](std::size_t, const CPose2D& step) {
+    return step + CPose2D(0, 0, 0.3 * kDeg);
+  };
+  return headingErrorAtTheEnd(o, campus(), CPose2D(-5, -2, 0.1), steps, drift, placed);
 }
 
 TEST(ScanToScan, SlamHoldsTheHeadingInTheOpenWhereTheSubmapHasNothing) {
@@ -173,19 +186,12 @@ sim::StaticWorld room() {
 double headingErrorAfterTurningOnTheSpot(double guess_sigma_deg) {
   SlamOptions o;
   o.scan_to_scan_guess_sigma_deg = guess_sigma_deg;
-  InsertionOptions insertion;
-  insertion.max_distance_insertion = kInsertion;
-  Slam slam(o, ScanMatchOptions{}, DynamicMapOptions{}, insertion);
-  const auto world = room();
-  CPose2D truth(0, 0, 0), odometry = truth;
-  for (int k = 0; k < 12; ++k) {
-    slam.add(odometry, scanFrom(world, truth));
-    truth = truth + CPose2D(0, 0, 30 * kDeg);
-    odometry = odometry + CPose2D(0, 0, 24 * kDeg);
-  }
-  slam.add(odometry, scanFrom(world, truth));
-  slam.finish();
-  return headingError(slam.poses().back(), truth) / kDeg;
+  const std::vector<CPose2D> steps(12, CPose2D(0, 0, 30 * kDeg));
+  const auto short_turn = [](std::size_t, const CPose2D& step) {
+    return CPose2D(0, 0, 0.8 * step.phi());
+  };
+  std::size_t placed = 0;
+  return headingErrorAtTheEnd(o, room(), CPose2D(0, 0, 0), steps, short_turn, placed);
 }
 
 TEST(ScanToScan, TheMatchedTurnSharpensTheSubmapMatchsGuess) {
