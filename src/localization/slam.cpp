@@ -42,6 +42,9 @@ std::vector<Option<O>> graphRows() {
        "scan-match edges: translation sd"},
       {"match_sigma_deg", &O::match_sigma_deg, Range::openClosed(0, 90), "deg",
        "scan-match edges: heading sd"},
+      {"match_full_inliers", &O::match_full_inliers, Range::closed(0, 100000), "",
+       "scan-match edges: a match with fewer inliers than this has its sds grown by "
+       "sqrt(this / inliers); 0 = every match alike"},
       {"loop_sigma_m", &O::loop_sigma_m, Range::openClosed(0, 10), "m",
        "loop-closure edges: translation sd"},
       {"loop_sigma_deg", &O::loop_sigma_deg, Range::openClosed(0, 90), "deg",
@@ -199,9 +202,8 @@ void Slam::add(const mrpt::poses::CPose2D& odometry, const RangeData& rd) {
     graph_.addEdge(stepEdge(inc, step));
     if (!active_.empty() && active_.front()->anchor() != i && stats_.matched > 0 &&
         last_match_ok_) {
-      graph_.addEdge({active_.front()->anchor(), i, pose - front_[active_.front()->anchor()],
-                      diagonalInformation(o_.match_sigma_m, o_.match_sigma_deg * kDegToRad),
-                      EdgeKind::ScanMatch});
+      graph_.addEdge(
+          matchEdge(active_.front()->anchor(), i, pose - front_[active_.front()->anchor()]));
     }
   }
   last_odometry_ = odometry;
@@ -261,6 +263,17 @@ PoseEdge Slam::stepEdge(const mrpt::poses::CPose2D& inc, const mrpt::poses::CPos
           EdgeKind::Odometry};
 }
 
+PoseEdge Slam::matchEdge(std::size_t anchor, std::size_t i, const mrpt::poses::CPose2D& z) const {
+  // A match's information grows with its inliers: one of few points (a scan in the open with a
+  // handful of returns short of the insertion range) is worth less than one of hundreds.
+  const double full = static_cast<double>(o_.match_full_inliers);
+  const double inliers = static_cast<double>(std::max<std::size_t>(1, last_match_inliers_));
+  const double grow = full > inliers ? std::sqrt(full / inliers) : 1.0;
+  return {anchor, i, z,
+          diagonalInformation(grow * o_.match_sigma_m, grow * o_.match_sigma_deg * kDegToRad),
+          EdgeKind::ScanMatch};
+}
+
 ScanToScanResult Slam::matchPrevious(const ScanReturns& returns,
                                      const mrpt::poses::CPose2D& odometry) const {
   if (returns.returns == 0 || previous_.returns == 0) return {odometry};
@@ -306,6 +319,7 @@ mrpt::poses::CPose2D Slam::frontEnd(const mrpt::poses::CPose2D& guess, const Ran
     if (r.matched) {
       ++stats_.matched;
       last_match_ok_ = true;
+      last_match_inliers_ = r.inliers;
       return anchor + r.pose;
     }
     ++stats_.fallbacks;

@@ -1,5 +1,5 @@
 // Scan-to-scan matching: a scan aligned to the one before it with its far returns, and slam's
-// use of it where the submap match fails.
+// use of it where the submap match fails; how slam's front end weighs its matches.
 
 #include "dynamap/localization/scan_to_scan.h"
 
@@ -199,6 +199,45 @@ TEST(ScanToScan, TheMatchedTurnSharpensTheSubmapMatchsGuess) {
   // Alone, each step's 6 degrees is too far for the submap match and for the fallback's
   // scan-to-scan limits: odometry's error stays.
   EXPECT_GT(headingErrorAfterTurningOnTheSpot(0.0), 30.0);
+}
+
+/// The scan-match edges of slam driving 3 m through room() on exact odometry.
+std::vector<PoseEdge> scanMatchEdges(int match_full_inliers) {
+  SlamOptions o;
+  o.match_full_inliers = match_full_inliers;
+  InsertionOptions insertion;
+  insertion.max_distance_insertion = kInsertion;
+  Slam slam(o, ScanMatchOptions{}, DynamicMapOptions{}, insertion);
+  for (int k = 0; k <= 10; ++k) {
+    const CPose2D pose(-2 + 0.3 * k, -1, 0.2);
+    slam.add(pose, scanFrom(room(), pose));
+  }
+  std::vector<PoseEdge> out;
+  for (const PoseEdge& e : slam.graph().edges()) {
+    if (e.kind == EdgeKind::ScanMatch) out.push_back(e);
+  }
+  return out;
+}
+
+TEST(SlamMatchEdges, AMatchOfFewInliersWeighsInProportionToThem) {
+  const double full_xy = 1 / (0.02 * 0.02), full_phi = 1 / std::pow(0.5 * kDeg, 2);
+  const auto alike = scanMatchEdges(0);
+  ASSERT_GE(alike.size(), 5u);
+  for (const PoseEdge& e : alike) {
+    EXPECT_DOUBLE_EQ(e.information(0, 0), full_xy);
+    EXPECT_DOUBLE_EQ(e.information(2, 2), full_phi);
+  }
+  // Every match has fewer than 100,000 inliers: each edge's information is inliers / 100,000 of
+  // the full one, in translation and heading alike.
+  const auto weighed = scanMatchEdges(100000);
+  ASSERT_EQ(weighed.size(), alike.size());
+  for (const PoseEdge& e : weighed) {
+    const double inliers = e.information(0, 0) / full_xy * 100000;
+    EXPECT_NEAR(inliers, std::round(inliers), 1e-6);
+    EXPECT_GE(inliers, 20.0);  // ScanMatchOptions::min_scan_points
+    EXPECT_LE(inliers, 361.0);
+    EXPECT_NEAR(e.information(2, 2) / full_phi * 100000, inliers, 1e-6);
+  }
 }
 
 }  // namespace

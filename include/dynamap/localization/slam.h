@@ -70,8 +70,12 @@ struct SlamOptions {
   double odometry_sigma_per_rad = 0.05;  ///< odometry: heading sd per radian turned (0, 10]
   double match_sigma_m = 0.02;           ///< scan-match edges: translation sd (0, 10]
   double match_sigma_deg = 0.5;          ///< ... heading sd (0, 90]
-  double loop_sigma_m = 0.05;            ///< loop closures: translation sd (0, 10]
-  double loop_sigma_deg = 1.0;           ///< ... heading sd (0, 90]
+  /// A match with fewer inliers than this has both sds grown by sqrt(this / inliers): its
+  /// information is in proportion to its inliers (a scan in the open keeps a handful of points
+  /// short of the insertion range). 0 = every match alike. [0, 100000]
+  int match_full_inliers = 200;
+  double loop_sigma_m = 0.05;   ///< loop closures: translation sd (0, 10]
+  double loop_sigma_deg = 1.0;  ///< ... heading sd (0, 90]
   /// Where the submap match fails (or the scan has no hit short of the insertion range), the
   /// scan is matched to the one before it with every return, far ones included
   /// (scan_to_scan.h): in the open, the previous scan's far walls fix the turn that odometry
@@ -182,6 +186,9 @@ class Slam {
   /// The edge from the scan before to the one just placed: odometry's increment `inc`, or with
   /// last_step_matched_ the front end's `step` (odometry's distance, the matched turn).
   PoseEdge stepEdge(const mrpt::poses::CPose2D& inc, const mrpt::poses::CPose2D& step) const;
+  /// The scan-match edge from `anchor` to scan `i` (`z`: i's pose in anchor's frame), its sds
+  /// grown for a match of few inliers (match_full_inliers).
+  PoseEdge matchEdge(std::size_t anchor, std::size_t i, const mrpt::poses::CPose2D& z) const;
   /// [rad] odometry's heading sd over a step that turned `turn` (its edge's).
   double odometryHeadingSigma(double turn) const;
   /// The scan's `returns` matched to the scan before (previous_) from `odometry`'s increment;
@@ -231,8 +238,9 @@ class Slam {
   std::size_t nodes_at_last_optimise_ = 0;
   bool pending_loops_ = false;
   bool last_match_ok_ = false;
-  bool last_step_matched_ = false;  // the last scan was placed by scan_to_scan
-  ScanReturns previous_;            // the last scan's returns (scan_to_scan), if it was usable
+  std::size_t last_match_inliers_ = 0;  // the last submap match's, when last_match_ok_
+  bool last_step_matched_ = false;      // the last scan was placed by scan_to_scan
+  ScanReturns previous_;                // the last scan's returns (scan_to_scan), if it was usable
   std::unique_ptr<const LikelihoodField> prior_;  // tieTo's
   mrpt::poses::CPose2D prior_offset_;  // the prior's frame from the graph's, at the last tie
   double last_tie_attempt_ = 0, last_tie_path_ = 0;
