@@ -179,8 +179,9 @@ class Slam {
   const SlamStats& stats() const;
 
  private:
-  /// The scan's pose: matched against the oldest active submap (when it has `hits`), or else
-  /// to the scan before it (scan_to_scan, setting last_step_matched_), or `guess`.
+  /// The scan's pose: matched against the oldest active submap (when it has `hits`; from
+  /// `guess` with its turn averaged with the scan-to-scan match's, scan_to_scan_guess_sigma_deg),
+  /// or else to the scan before it (scan_to_scan, setting last_step_matched_), or `guess`.
   mrpt::poses::CPose2D frontEnd(const mrpt::poses::CPose2D& guess, const RangeData& rd,
                                 const ScanReturns& returns, bool hits);
   /// The edge from the scan before to the one just placed: odometry's increment `inc`, or with
