@@ -16,6 +16,8 @@ const OptionTable<ObjectOptions>& ObjectOptions::table() {
           {"join_distance", &O::join_distance, Range::closed(0.01, 2), "m",
            "object cells this close form one cluster"},
           {"min_cells", &O::min_cells, Range::closed(1, 1000), "", "fewer cells is not an object"},
+          {"support_threshold", &O::support_threshold, Range::closedOpen(0, 1), "",
+           "a cluster short of min_cells counts the D cells beside it above this P(occ) (0: off)"},
           {"min_size", &O::min_size, Range::closed(0, 20), "m",
            "smaller estimated sizes are noise"},
           {"max_size", &O::max_size, Range::openClosed(0, 20), "m",

@@ -128,9 +128,14 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
       continue;
     }
     const Track& tr = it->second;
-    if (!passesFilters(tr, tent->shape, options_)) {
+    const int support = supportCells(*map_, tr);
+    if (!passesFilters(tr, tent->shape, options_, support)) {
       tent->restart();
-      pending_.erase(key);
+      // Short of cells alone, it is judged again each scan: its neighbours may gather hits.
+      if (options_.support_threshold <= 0 ||
+          static_cast<int>(tr.cells.size()) >= options_.min_cells) {
+        pending_.erase(key);
+      }
       continue;
     }
     if (nearKeepOut(tent->shape)) {  // a person there now: judged again once they have left
@@ -145,7 +150,9 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
     // Count only scans that left its size as it was: an object is judged once its size has
     // settled (it is all there, and the robot has seen enough of it to tell its size).
     tent->run.pass(tent->shape.size, options_.settle_size);
-    if (const auto o = outline_now_.find(key); o != outline_now_.end()) {
+    // Short of cells alone (support), its outlines are of an arc seen in part: a provisional
+    // identity waits for a cluster of its own cells.
+    if (const auto o = outline_now_.find(key); o != outline_now_.end() && support == 0) {
       tent->outline.add(o->second.first, o->second.second);
     }
     if (tent->run.passes < options_.confirm_scans && tent->outline.count < options_.report_scans) {

@@ -46,6 +46,29 @@ bool ObjectTracker::nearNotFree(const DynamicGridMap& map, CellXY c, double dist
   return false;
 }
 
+int ObjectTracker::supportCells(const DynamicGridMap& map, const Track& tr) const {
+  if (options_.support_threshold <= 0 || tr.cells.empty() ||
+      static_cast<int>(tr.cells.size()) >= options_.min_cells) {
+    return 0;
+  }
+  const auto offsets = joinOffsets(options_.join_distance / resolution_);
+  std::set<CellKey> seen;
+  for (const CellKey k : tr.cells) {
+    const CellXY c = cellOf(k);
+    for (const CellXY& o : offsets) {
+      const CellXY n{c.x + o.x, c.y + o.y};
+      const CellKey nk = cellKey(n.x, n.y);
+      const int gx = n.x - origin_x_, gy = n.y - origin_y_;
+      if (cells_.count(nk) || !map.isStaticFree(gx, gy) ||
+          map.dynamicOccupancy(gx, gy) < options_.support_threshold || isWallNoise(map, n)) {
+        continue;
+      }
+      seen.insert(nk);
+    }
+  }
+  return static_cast<int>(seen.size());
+}
+
 int ObjectTracker::ownerOfMost(const std::vector<CellXY>& cluster) const {
   std::map<int, std::size_t> votes;
   for (const CellXY& c : cluster) {

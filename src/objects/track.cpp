@@ -88,12 +88,13 @@ const ShapeEstimate* Track::ownShape() const {
   return const_cast<Track*>(this)->ownShape();
 }
 
-bool passesFilters(const Track& tr, const ShapeEstimate& shape, const ObjectOptions& options) {
+bool passesFilters(const Track& tr, const ShapeEstimate& shape, const ObjectOptions& options,
+                   int support) {
   // A thin row of cells along a wall is the wall seen at a grazing angle (or off by
   // localisation), not an object: no cylinder or person shows a straight row that long.
   const bool wall_row =
       tr.hugs_wall && shape.thickness < options.thin_width && shape.length >= options.thin_length;
-  return !wall_row && static_cast<int>(tr.cells.size()) >= options.min_cells &&
+  return !wall_row && static_cast<int>(tr.cells.size()) + support >= options.min_cells &&
          shape.size >= options.min_size && shape.size <= options.max_size;
 }
 

@@ -115,6 +115,8 @@ TEST(PassesFilters, CellsSizeAndAThinRowAlongAWall) {
   s.size = 0.3;
   tr.cells.resize(1);
   EXPECT_FALSE(passesFilters(tr, s, o));  // fewer than min_cells
+  // One cell, and one beside it above support_threshold (a far object's arc): enough.
+  EXPECT_TRUE(passesFilters(tr, s, o, 1));
 }
 
 }  // namespace

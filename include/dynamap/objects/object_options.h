@@ -18,6 +18,11 @@ struct ObjectOptions {
   double join_distance =
       0.15;  ///< [m] object cells this close (centre to centre) form one cluster; [0.01, 2]
   int min_cells = 2;       ///< fewer cells than this is not an object; [1, 1000]
+  /// A cluster short of min_cells also counts the D cells beside it above this P(occ), in S's
+  /// free space and off the walls: a far object's arc, whose hits spread over its cells from
+  /// scan to scan, brings one cell to object_threshold and its neighbours part of the way.
+  /// 0.8 is four more hits than misses. 0 = off; [0, 1).
+  double support_threshold = 0.8;
   double min_size = 0.06;  ///< [m] smaller estimated sizes are noise; [0, max_size)
   double max_size = 1.2;  ///< [m] larger clusters are not objects (walls seen off by localisation);
                           ///< (min_size, 20]

@@ -133,6 +133,9 @@ class ObjectTracker {
   bool usable(const DynamicGridMap& map, CellKey k);
   bool isWallNoise(const DynamicGridMap& map, CellXY c) const;
   bool nearNotFree(const DynamicGridMap& map, CellXY c, double distance) const;
+  /// The D cells beside a track short of min_cells (within join_distance of its cells, not
+  /// object cells) above support_threshold, in S's free space and not wall noise; 0 when off.
+  int supportCells(const DynamicGridMap& map, const Track& tr) const;
   int ownerOfMost(const std::vector<CellXY>& cluster) const;
   /// The non-stale track whose shape a cluster of shape `s` continues, or 0.
   int followedTrack(const ShapeEstimate& s) const;

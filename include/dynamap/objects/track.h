@@ -147,6 +147,8 @@ void applyOutline(const OutlineSizes& outline, ShapeEstimate& s);
 
 /// Whether a tentative track of shape `shape` counts as a pass towards confirmation: enough
 /// cells, a size within [min_size, max_size], and not a thin row of cells along a wall.
-bool passesFilters(const Track& track, const ShapeEstimate& shape, const ObjectOptions& options);
+/// `support`: cells beside it that count towards min_cells (ObjectOptions::support_threshold).
+bool passesFilters(const Track& track, const ShapeEstimate& shape, const ObjectOptions& options,
+                   int support = 0);
 
 }  // namespace dynamap
