@@ -132,10 +132,7 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
     if (!passesFilters(tr, tent->shape, options_, support)) {
       tent->restart();
       // Short of cells alone, it is judged again each scan: its neighbours may gather hits.
-      if (options_.support_threshold <= 0 ||
-          static_cast<int>(tr.cells.size()) >= options_.min_cells) {
-        pending_.erase(key);
-      }
+      if (!shortOfCells(tr)) pending_.erase(key);
       continue;
     }
     if (nearKeepOut(tent->shape)) {  // a person there now: judged again once they have left

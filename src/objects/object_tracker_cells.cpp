@@ -46,11 +46,13 @@ bool ObjectTracker::nearNotFree(const DynamicGridMap& map, CellXY c, double dist
   return false;
 }
 
+bool ObjectTracker::shortOfCells(const Track& tr) const {
+  return options_.support_threshold > 0 && !tr.cells.empty() &&
+         static_cast<int>(tr.cells.size()) < options_.min_cells;
+}
+
 int ObjectTracker::supportCells(const DynamicGridMap& map, const Track& tr) const {
-  if (options_.support_threshold <= 0 || tr.cells.empty() ||
-      static_cast<int>(tr.cells.size()) >= options_.min_cells) {
-    return 0;
-  }
+  if (!shortOfCells(tr)) return 0;
   const auto offsets = joinOffsets(options_.join_distance / resolution_);
   std::set<CellKey> seen;
   for (const CellKey k : tr.cells) {

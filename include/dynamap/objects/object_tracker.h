@@ -133,8 +133,11 @@ class ObjectTracker {
   bool usable(const DynamicGridMap& map, CellKey k);
   bool isWallNoise(const DynamicGridMap& map, CellXY c) const;
   bool nearNotFree(const DynamicGridMap& map, CellXY c, double distance) const;
-  /// The D cells beside a track short of min_cells (within join_distance of its cells, not
-  /// object cells) above support_threshold, in S's free space and not wall noise; 0 when off.
+  /// Whether support_threshold is on and the track has cells, but fewer than min_cells: the
+  /// cells beside it may complete it.
+  bool shortOfCells(const Track& tr) const;
+  /// The D cells beside a shortOfCells() track (within join_distance of its cells, not object
+  /// cells) above support_threshold, in S's free space and not wall noise; 0 for any other.
   int supportCells(const DynamicGridMap& map, const Track& tr) const;
   int ownerOfMost(const std::vector<CellXY>& cluster) const;
   /// The non-stale track whose shape a cluster of shape `s` continues, or 0.
