@@ -215,6 +215,29 @@ int beamsOnDisc(const ScanGeometry& scan, Vec2 centre, double radius, double cou
   return n;
 }
 
+int ownReturnsInDisc(const ScanGeometry& scan, Vec2 centre, double radius) {
+  const auto [lo, hi] = beamWindow(scan, centre, radius);
+  int n = 0;
+  for (long i = lo; i <= hi; ++i) {
+    const float range = scan.ranges[static_cast<std::size_t>(i)];
+    if (!scan.valid[static_cast<std::size_t>(i)] || !(range < scan.max_range)) continue;
+    const double a = scan.sensor_phi + scan.first_angle + static_cast<double>(i) * scan.step;
+    const Vec2 end{scan.sensor.x + range * std::cos(a), scan.sensor.y + range * std::sin(a)};
+    n += distance(end, centre) < radius;
+  }
+  return n;
+}
+
+bool clearOfTheLog(const std::vector<ScanGeometry>& scans, Vec2 centre, double radius, double t0,
+                   double t1) {
+  auto it = std::lower_bound(scans.begin(), scans.end(), t0,
+                             [](const ScanGeometry& s, double t) { return s.t < t; });
+  for (; it != scans.end() && it->t <= t1; ++it) {
+    if (ownReturnsInDisc(*it, centre, radius) > 0) return false;
+  }
+  return true;
+}
+
 std::vector<int> applyAddedObjects(const AddedPlan& plan, ScanGeometry& scan,
                                    const AddObjectsSpec& spec, std::uint64_t seed_stream) {
   std::vector<int> owner;

@@ -195,6 +195,7 @@ class Planner {
       if (!glide && !unseen(to, r, t0 - kJumpUnseen, t0 + kJumpUnseen)) continue;
       const double seen = seenBy(to, r, t1, t1 + 2 * slot);
       if (!std::isfinite(seen) || !seenEnough(to, r, t1, seen + 1e-6)) continue;
+      if (!clearOfTheLog(scans_, to, r, t1, seen + kWindowS)) continue;
       plan_.moves.push_back({0, plan_.objects[k].id, t0, t1, from, to});
       free_after_[k] = seen;
       last_move_[k] = t0;

@@ -75,6 +75,32 @@ TEST(AddedObjects, BeamsOnADiscAreTheBeamsThatMeetItBeforeTheirReturn) {
   EXPECT_EQ(beamsOnDisc(fan({0, 0}, 0, 10), {3, 0}, 0.3, 2.5), 0);  // beyond the counted range
 }
 
+TEST(AddedObjects, ReturnsOfTheLogInsideADiscAreCounted) {
+  // Returns at 3.1 m straight ahead: beams -5..5 meet the disc of radius 0.3 at (3, 0), and
+  // their end points lie inside it (beam 5: (3.088, 0.270), 0.284 m from the centre).
+  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 3.1f), {3, 0}, 0.3), 11);
+  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 3.1f), {3, 0}, 0.05), 0);  // beam 0 ends 0.1 m off
+  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 3.1f), {3.1, 0}, 0.05), 1);
+  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 10), {3, 0}, 0.3), 0);   // they pass through it
+  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 2), {3, 0}, 0.3), 0);    // they end before it
+  ScanGeometry none = fan({0, 0}, 0, 3.1f);
+  none.valid.assign(none.valid.size(), 0);  // no return at all
+  EXPECT_EQ(ownReturnsInDisc(none, {3, 0}, 0.3), 0);
+  ScanGeometry far = fan({0, 0}, 0, 30);  // max range: no return either
+  EXPECT_EQ(ownReturnsInDisc(far, {30, 0}, 0.3), 0);
+}
+
+TEST(AddedObjects, APlaceSomeoneOfTheLogStandsInIsNotClear) {
+  // Scans at t = 0..9 s; someone stands 3.1 m ahead in those of t 4 and 5 only.
+  std::vector<ScanGeometry> scans;
+  for (int t = 0; t < 10; ++t) scans.push_back(fan({0, 0}, 0, t == 4 || t == 5 ? 3.1f : 10, t));
+  EXPECT_FALSE(clearOfTheLog(scans, {3, 0}, 0.3, 0, 9));
+  EXPECT_FALSE(clearOfTheLog(scans, {3, 0}, 0.3, 5, 5));
+  EXPECT_TRUE(clearOfTheLog(scans, {3, 0}, 0.3, 0, 3.9));
+  EXPECT_TRUE(clearOfTheLog(scans, {3, 0}, 0.3, 5.5, 9));
+  EXPECT_TRUE(clearOfTheLog(scans, {-3, 0}, 0.3, 0, 9));  // elsewhere
+}
+
 TEST(AddedObjects, TheEditAgreesWithTheGeometryAndTheHits) {
   AddedPlan plan;
   plan.objects = {{1, 0.6, {3, 0}}, {2, 0.4, {4, 1}}};

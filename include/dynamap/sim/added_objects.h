@@ -94,7 +94,8 @@ std::vector<double> addedSlotTimes(double t_last, const AddObjectsSpec& spec);
 /// cylinder starts where S holds free at the end (the log without it). Each move's new place is seen in
 /// spec.seen_scans scans with spec.seen_beams beams before the object's next move; a jump is seen
 /// neither at its old nor at its new place within a second of it; a glide is in view for at least
-/// half of its scans. A move no place or time satisfies is dropped with its reason.
+/// half of its scans; no return of the log's own falls inside the new place (clearOfTheLog) from
+/// the move to 10 s after it is seen enough. A move no place or time satisfies is dropped with its reason.
 AddedPlan planAddedObjects(const std::vector<ScanGeometry>& scans,
                            const std::vector<FreeSpace>& free, const AddObjectsSpec& spec);
 
@@ -103,6 +104,17 @@ Vec2 addedPositionAt(const AddedPlan& plan, std::size_t index, double t);
 
 /// Beams of `scan` that meet the disc before their own return, within `counted_range` [m].
 int beamsOnDisc(const ScanGeometry& scan, Vec2 centre, double radius, double counted_range = 1e9);
+
+/// Beams of `scan` whose own return (valid, short of max_range) ends inside the disc: something
+/// of the log stands where the cylinder would (the planner takes only S's free space, so it is
+/// something that moves: a person walking through).
+int ownReturnsInDisc(const ScanGeometry& scan, Vec2 centre, double radius);
+/// No scan of `scans` (by time) in [t0, t1] has a return of its own inside the disc: no one of the log
+/// walks through the place then. The planner asks it of each move's new place from the move to
+/// 10 s after the place is seen enough (eval's window), so that no scored move puts a cylinder
+/// where a person of the log stands.
+bool clearOfTheLog(const std::vector<ScanGeometry>& scans, Vec2 centre, double radius, double t0,
+                   double t1);
 
 /// Shortens every beam of `scan` that meets a cylinder (at scan.t) before its own return to the
 /// nearest one, plus Gaussian noise of sd spec.range_noise_m drawn from `seed_stream` (one draw
