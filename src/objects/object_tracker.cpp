@@ -135,6 +135,10 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
       if (!shortOfCells(tr)) pending_.erase(key);
       continue;
     }
+    if (partOfASeenObject(tent->shape, view)) {
+      tent->restart();
+      continue;
+    }
     if (nearKeepOut(tent->shape)) {  // a person there now: judged again once they have left
       tent->restart();
       tent->kept_out = true;
@@ -486,6 +490,31 @@ bool ObjectTracker::nearKeepOut(const ShapeEstimate& shape) const {
   // A person walking or standing is no object: their cluster never becomes one.
   for (const KeepOut& k : keep_out_) {
     if (std::hypot(shape.cx - k.x, shape.cy - k.y) <= k.r) return true;
+  }
+  return false;
+}
+
+bool ObjectTracker::partOfASeenObject(const ShapeEstimate& shape, const ScanView& view) const {
+  for (const auto& kv : tracks_) {
+    const Confirmed* c = kv.second.confirmed();
+    if (!c) continue;
+    const TrackedObject& o = objects_[static_cast<std::size_t>(c->id - 1)];
+    if (o.state != ObjectState::Present) continue;
+    const double reach = 0.5 * o.shape.size + options_.follow_margin;
+    if (std::hypot(shape.cx - o.shape.cx, shape.cy - o.shape.cy) > reach) continue;
+    // Seen in place: its own cells hit by this scan (its disc may lie off them: a far arc's
+    // centre), its disc seen occupied, or reported in this scan.
+    if (beam_on_.count(kv.first) || reportedThisScan(c->id) ||
+        viewOfShape(view, o.shape) == PlaceView::SeenOccupied) {
+      return true;
+    }
+  }
+  return false;
+}
+
+bool ObjectTracker::reportedThisScan(int id) const {
+  for (std::size_t i = events_before_update_; i < events_.size(); ++i) {
+    if (events_[i].object_id == id) return true;
   }
   return false;
 }

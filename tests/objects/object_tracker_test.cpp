@@ -471,5 +471,20 @@ TEST(ObjectTracker, ACarriedTableKeepsItsIdsAndHandsThemToWhatItFinds) {
   EXPECT_THROW(fresh.carryOver(rows, 0.0), std::logic_error);
 }
 
+// A 0.6 m cylinder 3.5 m off, seen with beams 2.25 degrees apart (14 cm there): D crosses on
+// two arcs of it whose cells lie farther apart than join_distance, two clusters that pass two
+// scans apart. The second lies within the first's radius + follow_margin while the scan hits
+// the first's cells: the same object, not a second one (before, two objects, both new).
+TEST(ObjectTracker, AFarObjectCrossingDInTwoArcsIsOneObject) {
+  TrackerRun run;
+  run.beams = 81;
+  const mrpt::poses::CPose2D pose(-2.5, 0.1, 0.0);
+  run.steps(10, pose, {});
+  run.steps(30, pose, {{1.0, 0.3, 0.6}});
+  ASSERT_EQ(run.tracker.objects().size(), 1u);
+  EXPECT_EQ(run.events(), std::vector<ObjectEvent>{ObjectEvent::New});
+  EXPECT_NEAR(run.tracker.objects()[0].shape.cx, 1.0, 0.3);
+}
+
 }  // namespace
 }  // namespace dynamap

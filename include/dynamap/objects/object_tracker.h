@@ -225,6 +225,13 @@ class ObjectTracker {
   std::size_t events_before_update_ = 0;
   std::vector<KeepOut> keep_out_;
   bool nearKeepOut(const ShapeEstimate& shape) const;
+  /// Whether `shape` lies within a reported object's radius + follow_margin while this scan
+  /// sees that object in place (a beam ends on its cells or its disc is seen occupied) or
+  /// reports it: another arc of it (cells apart by more than join_distance on a far or
+  /// sparsely seen object), never a second object.
+  bool partOfASeenObject(const ShapeEstimate& shape, const ScanView& view) const;
+  /// Whether an event of this update names object `id`.
+  bool reportedThisScan(int id) const;
   /// What the scan shows of the disc a shape fills.
   PlaceView viewOfShape(const ScanView& view, const ShapeEstimate& s) const;
 };
