@@ -486,5 +486,27 @@ TEST(ObjectTracker, AFarObjectCrossingDInTwoArcsIsOneObject) {
   EXPECT_NEAR(run.tracker.objects()[0].shape.cx, 1.0, 0.3);
 }
 
+/// Objects found after a 0.15 m cylinder 6.4 m off is seen in six scans of half-degree beams
+/// (5.6 cm apart there) as the robot passes, then not again.
+std::size_t objectsAfterAFarGlance(double support_threshold) {
+  ObjectOptions o = quickMoves();
+  o.support_threshold = support_threshold;
+  TrackerRun run{DynamicGridMap{}, ObjectTracker{o}};
+  const mrpt::poses::CPose2D start(-2.8, -2.5, 0.7);
+  run.steps(10, start, {});
+  const Cylinder far{1.5, 2.2, 0.15};
+  for (int i = 0; i < 6; ++i) run.step(mrpt::poses::CPose2D(-2.8 + 0.05 * i, -2.5, 0.7), {far});
+  run.steps(20, mrpt::poses::CPose2D(-2.8, -2.5, 0.7 + M_PI), {far});
+  return run.tracker.objects().size();
+}
+
+// Far off, the hits spread over the arc's cells from scan to scan and D crosses on one cell
+// only: min_cells (2) alone never lets it through; the D cells beside it above
+// support_threshold count towards it.
+TEST(ObjectTracker, AFarObjectWhoseHitsSpreadOverItsArcIsFoundByTheCellsBesideIt) {
+  EXPECT_EQ(objectsAfterAFarGlance(0.0), 0u);
+  EXPECT_EQ(objectsAfterAFarGlance(0.8), 1u);
+}
+
 }  // namespace
 }  // namespace dynamap
