@@ -42,7 +42,8 @@ const OptionTable<ObjectOptions>& ObjectOptions::table() {
           {"reappear_distance", &O::reappear_distance, Range::openClosed(0, 10), "m",
            "back this close to its last place: reappeared"},
           {"follow_margin", &O::follow_margin, Range::closed(0, 5), "m",
-           "new cells within an object's radius + this continue it"},
+           "new cells within an object's radius + this continue it; a cluster there while it is "
+           "seen is part of it"},
           {"move_distance", &O::move_distance, Range::openClosed(0, 10), "m",
            "drift that counts as a move"},
           {"defer_s", &O::defer_s, Range::closed(0, 1e6), "s",
