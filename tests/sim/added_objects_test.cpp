@@ -86,8 +86,9 @@ TEST(AddedObjects, ReturnsOfTheLogInsideADiscAreCounted) {
   ScanGeometry none = fan({0, 0}, 0, 3.1f);
   none.valid.assign(none.valid.size(), 0);  // no return at all
   EXPECT_EQ(ownReturnsInDisc(none, {3, 0}, 0.3), 0);
-  ScanGeometry far = fan({0, 0}, 0, 30);  // max range: no return either
-  EXPECT_EQ(ownReturnsInDisc(far, {30, 0}, 0.3), 0);
+  // Beams at max range (30 m) end inside a disc at 29.9 m but are no return either.
+  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 30), {29.9, 0}, 0.3), 0);
+  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 29.99f), {29.9, 0}, 0.3), 1);
 }
 
 TEST(AddedObjects, APlaceSomeoneOfTheLogStandsInIsNotClear) {

@@ -95,7 +95,8 @@ std::vector<double> addedSlotTimes(double t_last, const AddObjectsSpec& spec);
 /// spec.seen_scans scans with spec.seen_beams beams before the object's next move; a jump is seen
 /// neither at its old nor at its new place within a second of it; a glide is in view for at least
 /// half of its scans; no return of the log's own falls inside the new place (clearOfTheLog) from
-/// the move to 10 s after it is seen enough. A move no place or time satisfies is dropped with its reason.
+/// the move to 10 s after it is seen enough. A move no place or time satisfies is dropped with
+/// its reason.
 AddedPlan planAddedObjects(const std::vector<ScanGeometry>& scans,
                            const std::vector<FreeSpace>& free, const AddObjectsSpec& spec);
 
@@ -109,10 +110,10 @@ int beamsOnDisc(const ScanGeometry& scan, Vec2 centre, double radius, double cou
 /// of the log stands where the cylinder would (the planner takes only S's free space, so it is
 /// something that moves: a person walking through).
 int ownReturnsInDisc(const ScanGeometry& scan, Vec2 centre, double radius);
-/// No scan of `scans` (by time) in [t0, t1] has a return of its own inside the disc: no one of the log
-/// walks through the place then. The planner asks it of each move's new place from the move to
-/// 10 s after the place is seen enough (eval's window), so that no scored move puts a cylinder
-/// where a person of the log stands.
+/// No scan of `scans` (by time) in [t0, t1] has a return of its own inside the disc: no one of
+/// the log walks through the place then. The planner asks it of each move's new place from the
+/// move to 10 s after the place is seen enough (eval's window), so that no scored move puts a
+/// cylinder where a person of the log stands.
 bool clearOfTheLog(const std::vector<ScanGeometry>& scans, Vec2 centre, double radius, double t0,
                    double t1);
 
