@@ -114,8 +114,12 @@ std::pair<long, long> beamWindow(const ScanGeometry& scan, Vec2 c, double r) {
   return {lo, hi};
 }
 
+double beamAngle(const ScanGeometry& scan, long i) {
+  return scan.sensor_phi + scan.first_angle + static_cast<double>(i) * scan.step;
+}
+
 double beamDistance(const ScanGeometry& scan, long i, Vec2 c, double r) {
-  const double a = scan.sensor_phi + scan.first_angle + static_cast<double>(i) * scan.step;
+  const double a = beamAngle(scan, i);
   return rayCircle(scan.sensor, {std::cos(a), std::sin(a)}, c, r);
 }
 
@@ -221,19 +225,24 @@ int ownReturnsInDisc(const ScanGeometry& scan, Vec2 centre, double radius) {
   for (long i = lo; i <= hi; ++i) {
     const float range = scan.ranges[static_cast<std::size_t>(i)];
     if (!scan.valid[static_cast<std::size_t>(i)] || !(range < scan.max_range)) continue;
-    const double a = scan.sensor_phi + scan.first_angle + static_cast<double>(i) * scan.step;
+    const double a = beamAngle(scan, i);
     const Vec2 end{scan.sensor.x + range * std::cos(a), scan.sensor.y + range * std::sin(a)};
     n += distance(end, centre) < radius;
   }
   return n;
 }
 
+std::size_t firstScanAt(const std::vector<ScanGeometry>& scans, double t) {
+  return static_cast<std::size_t>(
+      std::lower_bound(scans.begin(), scans.end(), t,
+                       [](const ScanGeometry& s, double v) { return s.t < v; }) -
+      scans.begin());
+}
+
 bool clearOfTheLog(const std::vector<ScanGeometry>& scans, Vec2 centre, double radius, double t0,
                    double t1) {
-  auto it = std::lower_bound(scans.begin(), scans.end(), t0,
-                             [](const ScanGeometry& s, double t) { return s.t < t; });
-  for (; it != scans.end() && it->t <= t1; ++it) {
-    if (ownReturnsInDisc(*it, centre, radius) > 0) return false;
+  for (std::size_t s = firstScanAt(scans, t0); s < scans.size() && scans[s].t <= t1; ++s) {
+    if (ownReturnsInDisc(scans[s], centre, radius) > 0) return false;
   }
   return true;
 }

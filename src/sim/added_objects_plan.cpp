@@ -76,12 +76,7 @@ class Planner {
             c.y + (rng_.uniform() - 0.5) * free_->resolution};
   }
 
-  std::size_t firstScanAt(double t) const {
-    return static_cast<std::size_t>(
-        std::lower_bound(scans_.begin(), scans_.end(), t,
-                         [](const ScanGeometry& s, double v) { return s.t < v; }) -
-        scans_.begin());
-  }
+  std::size_t firstScanAt(double t) const { return sim::firstScanAt(scans_, t); }
 
   /// Whether the disc is seen enough (Sightings::enough) from t0 on, before t1.
   bool seenEnough(Vec2 c, double r, double t0, double t1) const {

@@ -110,6 +110,8 @@ int beamsOnDisc(const ScanGeometry& scan, Vec2 centre, double radius, double cou
 /// of the log stands where the cylinder would (the planner takes only S's free space, so it is
 /// something that moves: a person walking through).
 int ownReturnsInDisc(const ScanGeometry& scan, Vec2 centre, double radius);
+/// The index of the first of `scans` (by time) at or after t; scans.size() when none is.
+std::size_t firstScanAt(const std::vector<ScanGeometry>& scans, double t);
 /// No scan of `scans` (by time) in [t0, t1] has a return of its own inside the disc: no one of
 /// the log walks through the place then. The planner asks it of each move's new place from the
 /// move to 10 s after the place is seen enough (eval's window), so that no scored move puts a
