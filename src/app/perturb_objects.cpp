@@ -234,6 +234,7 @@ int runAddObjects(const std::string& input, const std::string& dir, const std::s
   for (const ScanRecord& rec : records) geometry.push_back(geometryOf(rec, records.front().t));
   std::string own = std::string(csv::kOwn) + "\n";
   const auto free = freeSpaces(records, config, sim::addedSlotTimes(geometry.back().t, spec), own);
+  for (sim::ScanGeometry& g : geometry) sim::limitBeamsWithoutReturn(g, free.back());
   sim::AddedPlan plan;
   try {
     plan = sim::planAddedObjects(geometry, free, spec);

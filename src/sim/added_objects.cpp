@@ -186,6 +186,24 @@ double FreeSpace::pathDistanceAt(Vec2 p) const {
   return std::max(0.0, path_distance[static_cast<std::size_t>(y) * size_x + x] - resolution);
 }
 
+double FreeSpace::freeRun(Vec2 from, double angle, double max) const {
+  // Half-cell steps: a cell the line crosses only at a corner may be stepped over, which a
+  // beam's own footprint (wider than a line) would not clear either way.
+  const double step = resolution / 2, c = std::cos(angle), s = std::sin(angle);
+  double d = 0;
+  while (d < max && clearanceAt({from.x + d * c, from.y + d * s}) > 0) d += step;
+  return std::min(d, max);
+}
+
+void limitBeamsWithoutReturn(ScanGeometry& scan, const FreeSpace& free) {
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    if (scan.valid[i] && scan.ranges[i] < scan.max_range) continue;
+    const double angle = beamAngle(scan, static_cast<long>(i));
+    scan.ranges[i] = static_cast<float>(free.freeRun(scan.sensor, angle, scan.max_range));
+    scan.valid[i] = 0;
+  }
+}
+
 std::vector<double> addedSlotTimes(double t_last, const AddObjectsSpec& spec) {
   const double begin = 0.15 * t_last, slot = 0.8 * t_last / spec.moves;
   std::vector<double> times;

@@ -177,6 +177,49 @@ FreeSpace roomFree(const std::vector<ScanGeometry>& scans, double t) {
   return f;
 }
 
+TEST(AddedObjects, ABeamWithoutAReturnSeesACylinderOnlyAlongThePathTheMapHoldsFree) {
+  // The room of roomFree (free within 7.9 m of its centre) with a wall across x in [4.0, 4.1]
+  // that the laser does not return from: its cells are not free, nor anything beyond it.
+  FreeSpace f = roomFree({}, 0);
+  std::vector<std::uint8_t> flags(170 * 170, 0);
+  for (int y = 0; y < 170; ++y) {
+    for (int x = 0; x < 170; ++x) {
+      const double cx = -8.45 + x * 0.1, cy = -8.45 + y * 0.1;
+      flags[y * 170 + x] = std::abs(cx) < 7.9 && std::abs(cy) < 7.9 && cx < 4.0;
+    }
+  }
+  f.build(flags, {}, 3);
+  EXPECT_NEAR(f.freeRun({0, 0}, 0, 30), 4.0, 0.05 + 1e-9);  // the wall's near edge
+  EXPECT_NEAR(f.freeRun({0, 0}, kPi / 2, 30), 7.9, 0.05 + 1e-9);  // the room's wall
+  EXPECT_NEAR(f.freeRun({0, 0}, kPi / 2, 2.5), 2.5, 1e-9);        // capped
+  EXPECT_EQ(f.freeRun({5, 0}, kPi, 30), 0);                       // from a cell not free
+
+  ScanGeometry g = fan({0, 0}, 0, 30);  // every beam at max range: no return
+  g.valid[10] = 0;                       // and one invalid
+  g.ranges[20] = 3.0f;                   // one return of its own, kept as it is
+  limitBeamsWithoutReturn(g, f);
+  EXPECT_NEAR(g.ranges[90], 4.0, 0.05 + 1e-6);  // straight ahead: up to the wall
+  EXPECT_EQ(g.valid[90], 0);
+  EXPECT_NEAR(g.ranges[10], f.freeRun({0, 0}, -kPi / 2 + 10 * kPi / 180, 30), 1e-5);
+  EXPECT_EQ(g.ranges[20], 3.0f);
+  EXPECT_EQ(g.valid[20], 1);
+
+  // A cylinder beyond the wall is not seen; one before it is, by beams now valid.
+  AddObjectsSpec spec;
+  spec.range_noise_m = 0;
+  AddedPlan behind;
+  behind.objects = {{1, 0.6, {6, 0}}};
+  ScanGeometry b = g;
+  EXPECT_EQ(applyAddedObjects(behind, b, spec, 1)[0], 0);
+  EXPECT_EQ(beamsOnDisc(g, {6, 0}, 0.3), 0);
+  AddedPlan before;
+  before.objects = {{1, 0.6, {3, 0}}};
+  ScanGeometry a = g;
+  EXPECT_EQ(applyAddedObjects(before, a, spec, 1)[0], 11);
+  EXPECT_NEAR(a.ranges[90], 2.7, 1e-5);
+  EXPECT_EQ(a.valid[90], 1);
+}
+
 TEST(AddedObjects, APlanKeepsItsRules) {
   const auto scans = roomLog(400);
   AddObjectsSpec spec = parseAddObjectsSpec("objects=3,moves=6,seed=4");

@@ -64,6 +64,9 @@ struct FreeSpace {
   /// The cell's clearance minus half a cell (the obstacle's near edge); 0 off the grid.
   double clearanceAt(Vec2 p) const;
   double pathDistanceAt(Vec2 p) const;
+  /// [m] How far from `from` along `angle` every cell is free, up to `max` (0 when `from` is
+  /// not on a free cell).
+  double freeRun(Vec2 from, double angle, double max) const;
 };
 
 struct AddedObject {
@@ -118,6 +121,14 @@ std::size_t firstScanAt(const std::vector<ScanGeometry>& scans, double t);
 /// cylinder where a person of the log stands.
 bool clearOfTheLog(const std::vector<ScanGeometry>& scans, Vec2 centre, double radius, double t0,
                    double t1);
+
+/// A beam without a return of its own (invalid, or at max_range) says nothing of what it
+/// crossed: glass, a black surface or an open door the map holds unknown beyond may stand in
+/// its way. Each such beam of `scan` becomes invalid with the range up to which `free` (the
+/// unedited log's S) holds its path free: a cylinder farther along it is not seen through
+/// what the laser did not return from. Call before planning (beamsOnDisc, ownReturnsInDisc and
+/// applyAddedObjects then read the beam's range as its reach).
+void limitBeamsWithoutReturn(ScanGeometry& scan, const FreeSpace& free);
 
 /// Shortens every beam of `scan` that meets a cylinder (at scan.t) before its own return to the
 /// nearest one, plus Gaussian noise of sd spec.range_noise_m drawn from `seed_stream` (one draw
