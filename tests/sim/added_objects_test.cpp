@@ -178,8 +178,8 @@ FreeSpace roomFree(const std::vector<ScanGeometry>& scans, double t) {
 }
 
 TEST(AddedObjects, ABeamWithoutAReturnSeesACylinderOnlyAlongThePathTheMapHoldsFree) {
-  // The room of roomFree (free within 7.9 m of its centre) with a wall across x in [4.0, 4.1]
-  // that the laser does not return from: its cells are not free, nor anything beyond it.
+  // The room of roomFree (free within 7.9 m of its centre), but not free from x = 4.0 on: a
+  // surface there that the laser does not return from, and what lies behind it unknown.
   FreeSpace f = roomFree({}, 0);
   std::vector<std::uint8_t> flags(170 * 170, 0);
   for (int y = 0; y < 170; ++y) {
