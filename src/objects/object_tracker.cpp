@@ -499,7 +499,9 @@ bool ObjectTracker::partOfASeenObject(const ShapeEstimate& shape, const ScanView
     const Confirmed* c = kv.second.confirmed();
     if (!c) continue;
     const TrackedObject& o = objects_[static_cast<std::size_t>(c->id - 1)];
-    if (o.state != ObjectState::Present || !withinReach(o.shape, shape)) continue;
+    if (o.state != ObjectState::Present ||
+        std::hypot(shape.cx - o.shape.cx, shape.cy - o.shape.cy) > reachOf(o.shape))
+      continue;
     // Seen in place: its own cells hit by this scan (its disc may lie off them: a far arc's
     // centre), its disc seen occupied, or reported in this scan.
     if (beam_on_.count(kv.first) || reportedThisScan(c->id) ||

@@ -93,7 +93,7 @@ int ObjectTracker::followedTrack(const ShapeEstimate& s) const {
     if (tr.isStale() || tr.cells.empty()) continue;
     const ShapeEstimate& shape = shapeOf(tr);
     const double d = std::hypot(shape.cx - s.cx, shape.cy - s.cy);
-    if (withinReach(shape, s) && d < best_d) {
+    if (d <= reachOf(shape) && d < best_d) {
       best_d = d;
       best = kv.first;
     }
@@ -101,9 +101,8 @@ int ObjectTracker::followedTrack(const ShapeEstimate& s) const {
   return best;
 }
 
-bool ObjectTracker::withinReach(const ShapeEstimate& object, const ShapeEstimate& s) const {
-  return std::hypot(object.cx - s.cx, object.cy - s.cy) <=
-         0.5 * object.size + options_.follow_margin;
+double ObjectTracker::reachOf(const ShapeEstimate& object) const {
+  return 0.5 * object.size + options_.follow_margin;
 }
 
 bool ObjectTracker::usable(const DynamicGridMap& map, CellKey k) {

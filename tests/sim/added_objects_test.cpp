@@ -158,7 +158,9 @@ std::vector<ScanGeometry> roomLog(double seconds) {
   return scans;
 }
 
-FreeSpace roomFree(const std::vector<ScanGeometry>& scans, double t) {
+/// The room of roomLog as S holds it: free within 7.9 m of its centre, and short of
+/// x = `free_below_x`.
+FreeSpace roomFree(const std::vector<ScanGeometry>& scans, double t, double free_below_x = 1e9) {
   FreeSpace f;
   f.t = t;
   f.x_min = f.y_min = -8.5;
@@ -168,7 +170,7 @@ FreeSpace roomFree(const std::vector<ScanGeometry>& scans, double t) {
   for (int y = 0; y < 170; ++y) {
     for (int x = 0; x < 170; ++x) {
       const double cx = -8.45 + x * 0.1, cy = -8.45 + y * 0.1;
-      flags[y * 170 + x] = std::abs(cx) < 7.9 && std::abs(cy) < 7.9;
+      flags[y * 170 + x] = std::abs(cx) < 7.9 && std::abs(cy) < 7.9 && cx < free_below_x;
     }
   }
   std::vector<Vec2> robot;
@@ -178,17 +180,9 @@ FreeSpace roomFree(const std::vector<ScanGeometry>& scans, double t) {
 }
 
 TEST(AddedObjects, ABeamWithoutAReturnSeesACylinderOnlyAlongThePathTheMapHoldsFree) {
-  // The room of roomFree (free within 7.9 m of its centre), but not free from x = 4.0 on: a
-  // surface there that the laser does not return from, and what lies behind it unknown.
-  FreeSpace f = roomFree({}, 0);
-  std::vector<std::uint8_t> flags(170 * 170, 0);
-  for (int y = 0; y < 170; ++y) {
-    for (int x = 0; x < 170; ++x) {
-      const double cx = -8.45 + x * 0.1, cy = -8.45 + y * 0.1;
-      flags[y * 170 + x] = std::abs(cx) < 7.9 && std::abs(cy) < 7.9 && cx < 4.0;
-    }
-  }
-  f.build(flags, {}, 3);
+  // The room, but not free from x = 4.0 on: a surface there that the laser does not return
+  // from, and what lies behind it unknown.
+  const FreeSpace f = roomFree({}, 0, 4.0);
   EXPECT_NEAR(f.freeRun({0, 0}, 0, 30), 4.0, 0.05 + 1e-9);  // the wall's near edge
   EXPECT_NEAR(f.freeRun({0, 0}, kPi / 2, 30), 7.9, 0.05 + 1e-9);  // the room's wall
   EXPECT_NEAR(f.freeRun({0, 0}, kPi / 2, 2.5), 2.5, 1e-9);        // capped

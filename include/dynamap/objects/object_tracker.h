@@ -142,8 +142,8 @@ class ObjectTracker {
   int ownerOfMost(const std::vector<CellXY>& cluster) const;
   /// The non-stale track whose shape a cluster of shape `s` continues, or 0.
   int followedTrack(const ShapeEstimate& s) const;
-  /// Whether `s` lies within `object`'s radius + follow_margin: new cells there continue it.
-  bool withinReach(const ShapeEstimate& object, const ShapeEstimate& s) const;
+  /// [m] `object`'s radius + follow_margin: new cells this near its centre continue it.
+  double reachOf(const ShapeEstimate& object) const;
   /// Re-measures the track; a confirmed track's estimate goes to its object's row.
   void refresh(Track& tr, double resolution);
 

@@ -48,7 +48,9 @@ struct ScanGeometry {
   double sensor_phi = 0;
   double first_angle = 0, step = 0;  ///< beam i points at sensor_phi + first_angle + i * step
   float max_range = 0;
-  std::vector<float> ranges;       ///< a beam without a return reads max_range here
+  /// A beam without a return reads max_range here, or after limitBeamsWithoutReturn how far
+  /// the map holds its path free.
+  std::vector<float> ranges;
   std::vector<std::uint8_t> valid;  ///< the scan's own validity flags
 };
 
