@@ -245,8 +245,10 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
   evaluateCells(scenario, rows, moves, rawlog, config, ev);
   const fs::path people = fs::path(result) / "people.csv";
   ev.have_people = fs::exists(people);
-  ev.mot = evaluateClearMot(
-      rows, ev.have_people ? readPeople(people.string()) : std::vector<PersonTrackRow>{});
+  const std::vector<PersonTrackRow> people_rows =
+      ev.have_people ? readPeople(people.string()) : std::vector<PersonTrackRow>{};
+  explainMisses(ev.objects, rows, moves, track_rows, people_rows);
+  ev.mot = evaluateClearMot(rows, people_rows);
   const fs::path poses = fs::path(result) / "poses.txt";
   ev.have_poses = fs::exists(poses);
   if (ev.have_poses) {

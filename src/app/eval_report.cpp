@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -38,9 +39,22 @@ const int kPaperNotDetected[4] = {1, 1, 0, 0};
 const int kPaperStatic[4] = {3, 0, 0, 0};
 const int kPaperSize[4] = {6, 5, 4, 4};
 
+/// A miss's cause in words, for the report.
+const char* missText(MissCause c) {
+  switch (c) {
+    case MissCause::PersonOnPlace: return "a person track on its place";
+    case MissCause::PeopleNear: return "people within 1 m";
+    case MissCause::ReportedOffPlace: return "an object reported near, off its place";
+    case MissCause::FewViews: return "seen in few scans";
+    case MissCause::Unreported: return "nothing reported near";
+    case MissCause::None: break;
+  }
+  return "";
+}
+
 std::string moveStatus(const MoveResult& m) {
   if (!m.visible) return "never visible";
-  if (!m.matched) return "not detected";
+  if (!m.matched) return std::string("not detected (") + missText(m.missed_because) + ")";
   std::string s = m.correct ? "correct" : "";
   if (m.sizeError()) {
     const std::string why = m.wrong_id && m.double_match ? "wrong id, double match"
@@ -75,7 +89,9 @@ Json movesJson(const ObjectScores& ob) {
                      {"wrong_id", m.wrong_id},
                      {"double_match", m.double_match},
                      {"latency_s", m.correct ? jnum(m.latency_s, 3) : Json(nullptr)},
-                     {"latency_scans", m.correct ? Json(m.latency_scans) : Json(nullptr)}});
+                     {"latency_scans", m.correct ? Json(m.latency_scans) : Json(nullptr)},
+                     {"missed_because", m.notDetected() ? Json(toString(m.missed_because))
+                                                        : Json(nullptr)}});
   }
   return moves;
 }
@@ -233,6 +249,18 @@ std::string num(double v, int decimals, const std::string& nan_text) {
   return s.str();
 }
 
+/// "    of them: 2 a person track on its place, 1 seen in few scans" (nothing when none missed).
+void printMissCauses(std::ostream& o, const ObjectScores& ob) {
+  std::map<MissCause, std::size_t> n;
+  for (const auto& m : ob.moves) n[m.missed_because] += m.notDetected();
+  std::string text;
+  for (const auto& [cause, count] : n) {
+    if (count == 0 || cause == MissCause::None) continue;
+    text += (text.empty() ? "" : ", ") + std::to_string(count) + " " + missText(cause);
+  }
+  if (!text.empty()) o << "    of them: " << text << "\n";
+}
+
 void printTable(std::ostream& o, const Evaluation& ev) {
   const auto& ob = ev.objects;
   const int pc = paperColumn(ev.scenario);
@@ -248,6 +276,7 @@ void printTable(std::ostream& o, const Evaluation& ev) {
   };
   line("correctly detected", ob.correct, kPaperDetected);
   line("not detected", ob.not_detected, kPaperNotDetected);
+  printMissCauses(o, ob);
   line("static detected as objects", ob.static_as_objects, kPaperStatic);
   line("people detected as objects", ob.people_as_objects, nullptr);  // not in the paper
   if (ev.have_own) line("the log's own (unlabeled)", ob.log_own_objects, nullptr);

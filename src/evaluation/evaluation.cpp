@@ -106,10 +106,7 @@ void scoreWindow(const ByScan& g, const TruthMove& m, const std::map<int, BodyKe
   const BodyKey object{sim::BodyKind::Object, m.object_id};
   for (auto it = g.bodies.find(r.visible_scan); it != g.bodies.end(); ++it) {
     const double t = g.t.at(it->first);
-    if (t > r.visible_t + options.detect_window_s &&
-        it->first >= r.visible_scan + options.detect_window_scans) {
-      break;
-    }
+    if (!inDetectWindow(r, it->first, t, options)) break;
     const TruthRow* b = findBody(it->second, object);
     if (!b || sim::distance({b->x, b->y}, m.to) > options.place_tolerance_m) continue;
     const auto tr = g.tracks.find(it->first);
@@ -166,6 +163,11 @@ LatencyStats latencyOf(const std::vector<MoveResult>& moves) {
 }
 
 }  // namespace
+
+bool inDetectWindow(const MoveResult& r, std::size_t scan, double t, const EvalOptions& options) {
+  return scan >= r.visible_scan && (t <= r.visible_t + options.detect_window_s ||
+                                    scan < r.visible_scan + options.detect_window_scans);
+}
 
 bool rowMatches(const TrackRow& row, const TruthRow& body, const EvalOptions& options) {
   const double radius = std::max(options.min_match_radius_m, body.diameter);

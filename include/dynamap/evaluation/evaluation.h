@@ -62,6 +62,10 @@ struct EvalOptions {
   std::size_t detect_window_scans = 50;
   double static_distance_m = 0.5;    ///< farther than this from every body: not a real object
   double place_tolerance_m = 1e-3;   ///< the truth's position "is" the move's target within this
+  /// A move seen (min_visible_hits beams) in fewer scans of its window was hardly seen: D needs
+  /// five hits in one cell, and at 1 degree and 5-12 m each beam's end falls on another cell of
+  /// the arc from scan to scan (explainMisses).
+  std::size_t few_views_scans = 15;
 };
 
 // --- object level ------------------------------------------------------------------------------
@@ -86,6 +90,20 @@ struct IdAssignment {
   bool left_behind = false;    ///< set aside by setAsideLeftBehind (then not static_object)
 };
 
+/// Why a move that became visible was not detected (explainMisses): what the result shows at
+/// its new place during its detection window, the first of these that holds.
+enum class MissCause {
+  None,              ///< detected, or never visible
+  PersonOnPlace,     ///< a person track stood on it: the people tracker took it for someone
+  PeopleNear,        ///< people within kNearRadius of it: they hid it, or their cells joined it
+  ReportedOffPlace,  ///< an object was reported within kNearRadius, matching it nowhere
+  FewViews,          ///< seen by min_visible_hits beams in fewer than few_views_scans scans
+  Unreported,        ///< seen often enough, nothing reported near it
+};
+/// "person_on_place", "people_near", "reported_off_place", "few_views", "unreported"; nullptr
+/// for None.
+const char* toString(MissCause c);
+
 /// What became of one move.
 struct MoveResult {
   int move_id = 0, object_id = 0;
@@ -99,6 +117,7 @@ struct MoveResult {
   std::size_t first_correct_scan = 0;
   double latency_s = 0;  ///< first correct row's time - visible_t (when correct)
   std::size_t latency_scans = 0;
+  MissCause missed_because = MissCause::None;  ///< set by explainMisses
   bool sizeError() const { return wrong_id || double_match; }
   bool notDetected() const { return visible && !matched; }
 };
@@ -127,6 +146,11 @@ struct ObjectScores {
   LatencyStats latency;
 };
 
+/// Whether the scan `scan` at time `t` lies in the detection window of the visible move `r`: from
+/// its visible scan to detect_window_s later, or to detect_window_scans scans later, whichever
+/// is later.
+bool inDetectWindow(const MoveResult& r, std::size_t scan, double t, const EvalOptions& options);
+
 /// Matches, in the definitions' sense: the row's centre within max(min radius, diameter) of the
 /// body's centre.
 bool rowMatches(const TrackRow& row, const TruthRow& body, const EvalOptions& options);
@@ -139,6 +163,25 @@ double median(std::vector<double> v);
 /// Throws std::invalid_argument when a track row names a scan the truth does not have.
 ObjectScores evaluateObjects(const std::vector<TruthRow>& rows, const std::vector<TruthMove>& moves,
                              const std::vector<TrackRow>& tracks, const EvalOptions& options = {});
+
+/// One row of the tracker's people.csv.
+struct PersonTrackRow {
+  std::size_t scan_index = 0;
+  int person_id = 0;
+  double x = 0, y = 0;
+};
+
+/// Sets missed_because of every move of `scores` (evaluateObjects' of `rows` and `moves`) that
+/// became visible and was not detected, from the result's object `tracks` and its `people`
+/// (MissCause, in its order), over the scans of its window where the object stands at its new
+/// place: a person track on the place (within the object's radius + kOnPlaceMargin) or people
+/// within kNearRadius count on kPeopleScans or more of them.
+void explainMisses(ObjectScores& scores, const std::vector<TruthRow>& rows,
+                   const std::vector<TruthMove>& moves, const std::vector<TrackRow>& tracks,
+                   const std::vector<PersonTrackRow>& people, const EvalOptions& options = {});
+constexpr double kOnPlaceMargin = 0.15;  // [m]
+constexpr double kNearRadius = 1.0;      // [m]
+constexpr std::size_t kPeopleScans = 5;
 
 /// Where the mapper reported an object on a real log before objects were added to it (perturb
 /// --add-objects' NAME.own.csv): the log's own changes (people, doors, chairs), which no truth
@@ -272,13 +315,6 @@ double geometricMean(double a, double b);
 double harmonicMean(double a, double b);
 
 // --- people (CLEAR MOT) --------------------------------------------------------------------------
-
-/// One row of the tracker's people.csv.
-struct PersonTrackRow {
-  std::size_t scan_index = 0;
-  int person_id = 0;
-  double x = 0, y = 0;
-};
 
 struct MotOptions {
   double gate_m = 0.75;     ///< a track farther than this from a person never matches it
