@@ -42,12 +42,18 @@ const int kPaperSize[4] = {6, 5, 4, 4};
 /// A miss's cause in words, for the report.
 const char* missText(MissCause c) {
   switch (c) {
-    case MissCause::PersonOnPlace: return "a person track on its place";
-    case MissCause::PeopleNear: return "people within 1 m";
-    case MissCause::ReportedOffPlace: return "an object reported near, off its place";
-    case MissCause::FewViews: return "seen in few scans";
-    case MissCause::Unreported: return "nothing reported near";
-    case MissCause::None: break;
+    case MissCause::PersonOnPlace:
+      return "a person track on its place";
+    case MissCause::PeopleNear:
+      return "people within 1 m";
+    case MissCause::ReportedOffPlace:
+      return "an object reported near, off its place";
+    case MissCause::FewViews:
+      return "seen in few scans";
+    case MissCause::Unreported:
+      return "nothing reported near";
+    case MissCause::None:
+      break;
   }
   return "";
 }
@@ -79,19 +85,19 @@ Json cellJson(const CellScores& c) {
 Json movesJson(const ObjectScores& ob) {
   Json moves = Json::array();
   for (const auto& m : ob.moves) {
-    moves.push_back({{"move_id", m.move_id},
-                     {"object_id", m.object_id},
-                     {"visible", m.visible},
-                     {"visible_scan", m.visible ? Json(m.visible_scan) : Json(nullptr)},
-                     {"visible_t", m.visible ? jnum(m.visible_t, 3) : Json(nullptr)},
-                     {"matched", m.matched},
-                     {"correct", m.correct},
-                     {"wrong_id", m.wrong_id},
-                     {"double_match", m.double_match},
-                     {"latency_s", m.correct ? jnum(m.latency_s, 3) : Json(nullptr)},
-                     {"latency_scans", m.correct ? Json(m.latency_scans) : Json(nullptr)},
-                     {"missed_because", m.notDetected() ? Json(toString(m.missed_because))
-                                                        : Json(nullptr)}});
+    moves.push_back(
+        {{"move_id", m.move_id},
+         {"object_id", m.object_id},
+         {"visible", m.visible},
+         {"visible_scan", m.visible ? Json(m.visible_scan) : Json(nullptr)},
+         {"visible_t", m.visible ? jnum(m.visible_t, 3) : Json(nullptr)},
+         {"matched", m.matched},
+         {"correct", m.correct},
+         {"wrong_id", m.wrong_id},
+         {"double_match", m.double_match},
+         {"latency_s", m.correct ? jnum(m.latency_s, 3) : Json(nullptr)},
+         {"latency_scans", m.correct ? Json(m.latency_scans) : Json(nullptr)},
+         {"missed_because", m.notDetected() ? Json(toString(m.missed_because)) : Json(nullptr)}});
   }
   return moves;
 }
@@ -138,6 +144,28 @@ Json tableFiguresJson(const Evaluation& ev) {
           {"tracker_id_count", ob.ids.size()}};
 }
 
+/// The undetected moves by cause, every cause (MissCause's order) with its count, 0 included.
+std::map<MissCause, std::size_t> missCounts(const ObjectScores& ob) {
+  std::map<MissCause, std::size_t> n;
+  for (const MissCause c :
+       {MissCause::PersonOnPlace, MissCause::PeopleNear, MissCause::ReportedOffPlace,
+        MissCause::FewViews, MissCause::Unreported}) {
+    n[c] = 0;
+  }
+  for (const auto& m : ob.moves) {
+    if (m.notDetected() && m.missed_because != MissCause::None) ++n[m.missed_because];
+  }
+  return n;
+}
+
+/// missed_<cause> (toString's) for each cause.
+Json missCausesJson(const ObjectScores& ob) {
+  Json j = Json::object();
+  for (const auto& [cause, count] : missCounts(ob))
+    j[std::string("missed_") + toString(cause)] = count;
+  return j;
+}
+
 /// People and trajectory figures (null where the result has none).
 Json peopleAndPosesJson(const Evaluation& ev) {
   const double deg = 180.0 / M_PI;
@@ -163,7 +191,9 @@ Json peopleAndPosesJson(const Evaluation& ev) {
 std::string metric(const Json& metrics, const std::string& key, const std::string& file) {
   const auto it = metrics.find(key);
   // Figures eval gained in a later release: a result evaluated before has none ("n/a").
-  static const std::set<std::string> kAddedLater = {"people_detected_as_objects"};
+  static const std::set<std::string> kAddedLater = {
+      "people_detected_as_objects", "missed_person_on_place", "missed_people_near",
+      "missed_reported_off_place",  "missed_few_views",       "missed_unreported"};
   if (it == metrics.end() && kAddedLater.count(key)) return "n/a";
   if (it == metrics.end()) {
     throw InputError(file + ": no \"" + key + "\" (not written by dynamap eval?)");
@@ -215,6 +245,11 @@ const SummaryRow kSummaryRows[] = {
     {"moves visible", "moves_visible", nullptr},
     {"correctly detected", "correctly_detected", kPaperDetected},
     {"not detected", "not_detected", kPaperNotDetected},
+    {"  a person on its place", "missed_person_on_place", nullptr},
+    {"  people within 1 m", "missed_people_near", nullptr},
+    {"  reported off its place", "missed_reported_off_place", nullptr},
+    {"  seen in few scans", "missed_few_views", nullptr},
+    {"  nothing reported near", "missed_unreported", nullptr},
     {"static detected as objects", "static_detected_as_objects", kPaperStatic},
     {"people detected as objects", "people_detected_as_objects", nullptr},
     {"size estimation errors", "size_estimation_errors", kPaperSize},
@@ -251,11 +286,9 @@ std::string num(double v, int decimals, const std::string& nan_text) {
 
 /// "    of them: 2 a person track on its place, 1 seen in few scans" (nothing when none missed).
 void printMissCauses(std::ostream& o, const ObjectScores& ob) {
-  std::map<MissCause, std::size_t> n;
-  for (const auto& m : ob.moves) n[m.missed_because] += m.notDetected();
   std::string text;
-  for (const auto& [cause, count] : n) {
-    if (count == 0 || cause == MissCause::None) continue;
+  for (const auto& [cause, count] : missCounts(ob)) {
+    if (count == 0) continue;
     text += (text.empty() ? "" : ", ") + std::to_string(count) + " " + missText(cause);
   }
   if (!text.empty()) o << "    of them: " << text << "\n";
@@ -333,6 +366,7 @@ void writeMetricsJson(std::ostream& o, const Evaluation& ev) {
             {"result", ev.result},
             {"tracks_present", ev.have_tracks}};
   j.update(tableFiguresJson(ev));
+  j.update(missCausesJson(ev.objects));
   if (ev.have_own) j["log_own_objects"] = ev.objects.log_own_objects;
   if (ev.real_scans) j["left_behind_objects"] = ev.objects.left_behind_objects;
   j.update(peopleAndPosesJson(ev));

@@ -33,12 +33,18 @@ MissCause causeOf(const PlaceCounts& c, const EvalOptions& options) {
 
 const char* toString(MissCause c) {
   switch (c) {
-    case MissCause::PersonOnPlace: return "person_on_place";
-    case MissCause::PeopleNear: return "people_near";
-    case MissCause::ReportedOffPlace: return "reported_off_place";
-    case MissCause::FewViews: return "few_views";
-    case MissCause::Unreported: return "unreported";
-    case MissCause::None: break;
+    case MissCause::PersonOnPlace:
+      return "person_on_place";
+    case MissCause::PeopleNear:
+      return "people_near";
+    case MissCause::ReportedOffPlace:
+      return "reported_off_place";
+    case MissCause::FewViews:
+      return "few_views";
+    case MissCause::Unreported:
+      return "unreported";
+    case MissCause::None:
+      break;
   }
   return nullptr;
 }

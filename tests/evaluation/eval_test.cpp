@@ -300,16 +300,20 @@ TEST(EvalCommand, TinyScenarioWritesMetricsAndReport) {
   // A result evaluated by an earlier release, without the figures eval gained since: "n/a".
   const std::string older = out + "/older";
   std::filesystem::create_directories(older);
-  const std::string cut = "  \"people_detected_as_objects\": 0,\n";
-  ASSERT_NE(metrics.find(cut), std::string::npos) << metrics;
   std::string old_metrics = metrics;
-  old_metrics.erase(old_metrics.find(cut), cut.size());
+  for (const char* key : {"people_detected_as_objects", "missed_few_views"}) {
+    const std::string cut = std::string("  \"") + key + "\": 0,\n";
+    ASSERT_NE(old_metrics.find(cut), std::string::npos) << metrics;
+    old_metrics.erase(old_metrics.find(cut), cut.size());
+  }
   { std::ofstream(older + "/metrics.json") << old_metrics; }
   ASSERT_EQ(test::run(std::string(DYNAMAP_EXE) + " eval --summary " + older, &output), 0) << output;
-  const auto line_at = output.find("people detected as objects");
-  ASSERT_NE(line_at, std::string::npos) << output;
-  const std::string line = output.substr(line_at, output.find('\n', line_at) - line_at);
-  EXPECT_NE(line.find("| n/a"), std::string::npos) << line;
+  for (const char* label : {"people detected as objects", "  seen in few scans"}) {
+    const auto line_at = output.find(label);
+    ASSERT_NE(line_at, std::string::npos) << output;
+    const std::string line = output.substr(line_at, output.find('\n', line_at) - line_at);
+    EXPECT_NE(line.find("| n/a"), std::string::npos) << line;
+  }
 }
 
 /// A tracks.csv of a perfect tracker: every object seen by a beam, under its own number.
