@@ -31,6 +31,14 @@ struct Case {
   void person(std::size_t from, std::size_t to, double x, double y) {
     for (std::size_t k = from; k < to; ++k) people.push_back({k, 7, x, y});
   }
+  /// Object 4 reported at (x, 0) at scan `scan`.
+  void report(std::size_t scan, double x) {
+    TrackRow r;
+    r.scan_index = scan;
+    r.object_id = 4;
+    r.cx = x;
+    tracks.push_back(r);
+  }
   MissCause cause() const {
     EvalOptions o;
     o.detect_window_scans = 10;
@@ -74,11 +82,7 @@ TEST(MissCauses, PeopleWithinAMetre) {
 
 TEST(MissCauses, AnObjectReportedNearButOffItsPlace) {
   Case c;
-  TrackRow r;
-  r.scan_index = 6;
-  r.object_id = 4;
-  r.cx = 5.6;  // 0.6 m off: no match (max(0.25, 0.3) m)
-  c.tracks.push_back(r);
+  c.report(6, 5.6);  // 0.6 m off: no match (max(0.25, 0.3) m)
   EXPECT_EQ(c.cause(), MissCause::ReportedOffPlace);
   c.person(3, 8, 5.0, 0.0);  // a person on its place comes first
   EXPECT_EQ(c.cause(), MissCause::PersonOnPlace);
@@ -86,11 +90,7 @@ TEST(MissCauses, AnObjectReportedNearButOffItsPlace) {
 
 TEST(MissCauses, ADetectedMoveHasNoCause) {
   Case c;
-  TrackRow r;
-  r.scan_index = 5;
-  r.object_id = 4;
-  r.cx = 5.05;
-  c.tracks.push_back(r);
+  c.report(5, 5.05);
   EXPECT_EQ(c.cause(), MissCause::None);
   EXPECT_EQ(toString(MissCause::None), nullptr);
 }
