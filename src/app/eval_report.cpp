@@ -39,28 +39,9 @@ const int kPaperNotDetected[4] = {1, 1, 0, 0};
 const int kPaperStatic[4] = {3, 0, 0, 0};
 const int kPaperSize[4] = {6, 5, 4, 4};
 
-/// A miss's cause in words, for the report.
-const char* missText(MissCause c) {
-  switch (c) {
-    case MissCause::PersonOnPlace:
-      return "a person track on its place";
-    case MissCause::PeopleNear:
-      return "people within 1 m";
-    case MissCause::ReportedOffPlace:
-      return "an object reported near, off its place";
-    case MissCause::FewViews:
-      return "seen in few scans";
-    case MissCause::Unreported:
-      return "nothing reported near";
-    case MissCause::None:
-      break;
-  }
-  return "";
-}
-
 std::string moveStatus(const MoveResult& m) {
   if (!m.visible) return "never visible";
-  if (!m.matched) return std::string("not detected (") + missText(m.missed_because) + ")";
+  if (!m.matched) return std::string("not detected (") + describe(m.missed_because) + ")";
   std::string s = m.correct ? "correct" : "";
   if (m.sizeError()) {
     const std::string why = m.wrong_id && m.double_match ? "wrong id, double match"
@@ -144,16 +125,13 @@ Json tableFiguresJson(const Evaluation& ev) {
           {"tracker_id_count", ob.ids.size()}};
 }
 
-/// The undetected moves by cause, every cause (MissCause's order) with its count, 0 included.
-std::map<MissCause, std::size_t> missCounts(const ObjectScores& ob) {
-  std::map<MissCause, std::size_t> n;
-  for (const MissCause c :
-       {MissCause::PersonOnPlace, MissCause::PeopleNear, MissCause::ReportedOffPlace,
-        MissCause::FewViews, MissCause::Unreported}) {
-    n[c] = 0;
-  }
-  for (const auto& m : ob.moves) {
-    if (m.notDetected() && m.missed_because != MissCause::None) ++n[m.missed_because];
+/// The undetected moves by cause, every cause (kMissCauses' order) with its count, 0 included.
+std::vector<std::pair<MissCause, std::size_t>> missCounts(const ObjectScores& ob) {
+  std::vector<std::pair<MissCause, std::size_t>> n;
+  for (const MissCauseName& c : kMissCauses) {
+    std::size_t count = 0;
+    for (const auto& m : ob.moves) count += m.notDetected() && m.missed_because == c.cause;
+    n.emplace_back(c.cause, count);
   }
   return n;
 }
@@ -289,7 +267,7 @@ void printMissCauses(std::ostream& o, const ObjectScores& ob) {
   std::string text;
   for (const auto& [cause, count] : missCounts(ob)) {
     if (count == 0) continue;
-    text += (text.empty() ? "" : ", ") + std::to_string(count) + " " + missText(cause);
+    text += (text.empty() ? "" : ", ") + std::to_string(count) + " " + describe(cause);
   }
   if (!text.empty()) o << "    of them: " << text << "\n";
 }

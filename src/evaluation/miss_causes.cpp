@@ -31,22 +31,26 @@ MissCause causeOf(const PlaceCounts& c, const EvalOptions& options) {
 
 }  // namespace
 
+const MissCauseName kMissCauses[5] = {
+    {MissCause::PersonOnPlace, "person_on_place", "a person track on its place"},
+    {MissCause::PeopleNear, "people_near", "people within 1 m"},
+    {MissCause::ReportedOffPlace, "reported_off_place", "an object reported near, off its place"},
+    {MissCause::FewViews, "few_views", "seen in few scans"},
+    {MissCause::Unreported, "unreported", "nothing reported near"},
+};
+
 const char* toString(MissCause c) {
-  switch (c) {
-    case MissCause::PersonOnPlace:
-      return "person_on_place";
-    case MissCause::PeopleNear:
-      return "people_near";
-    case MissCause::ReportedOffPlace:
-      return "reported_off_place";
-    case MissCause::FewViews:
-      return "few_views";
-    case MissCause::Unreported:
-      return "unreported";
-    case MissCause::None:
-      break;
+  for (const MissCauseName& n : kMissCauses) {
+    if (n.cause == c) return n.key;
   }
   return nullptr;
+}
+
+const char* describe(MissCause c) {
+  for (const MissCauseName& n : kMissCauses) {
+    if (n.cause == c) return n.text;
+  }
+  return "";
 }
 
 void explainMisses(ObjectScores& scores, const std::vector<TruthRow>& rows,

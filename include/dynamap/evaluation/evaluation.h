@@ -100,9 +100,17 @@ enum class MissCause {
   FewViews,          ///< seen by min_visible_hits beams in fewer than few_views_scans scans
   Unreported,        ///< seen often enough, nothing reported near it
 };
-/// "person_on_place", "people_near", "reported_off_place", "few_views", "unreported"; nullptr
-/// for None.
+/// Every cause but None, in MissCause's order: its key in metrics.json and its words.
+struct MissCauseName {
+  MissCause cause;
+  const char* key;   ///< "person_on_place", "people_near", ...
+  const char* text;  ///< "a person track on its place", ...
+};
+extern const MissCauseName kMissCauses[5];
+/// The cause's key; nullptr for None.
 const char* toString(MissCause c);
+/// The cause in words, for reports; "" for None.
+const char* describe(MissCause c);
 
 /// What became of one move.
 struct MoveResult {
