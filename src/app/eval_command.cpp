@@ -195,6 +195,17 @@ int scorePeopleBag(const po::variables_map& vm) {
 
 // ---- the command --------------------------------------------------------------------------
 
+/// The result's poses.txt, when it has one, and the log's odometry against the truth's poses.
+void evaluatePoses(const std::string& result, const std::string& prefix, const std::string& rawlog,
+                   Evaluation& ev) {
+  const fs::path poses = fs::path(result) / "poses.txt";
+  ev.have_poses = fs::exists(poses);
+  if (!ev.have_poses) return;
+  const auto truth = readPoses(prefix + ".gt.txt");
+  ev.trajectory = trajectoryError(readPoses(poses.string()), truth);
+  ev.odometry = trajectoryError(odometryPoses(rawlog), truth);
+}
+
 Evaluation evaluate(const std::string& scenario_path, const std::string& truth_given,
                     const std::string& result, const MapConfig& config) {
   const std::string prefix = truthPrefix(truth_given);
@@ -249,13 +260,7 @@ Evaluation evaluate(const std::string& scenario_path, const std::string& truth_g
       ev.have_people ? readPeople(people.string()) : std::vector<PersonTrackRow>{};
   explainMisses(ev.objects, rows, moves, track_rows, people_rows);
   ev.mot = evaluateClearMot(rows, people_rows);
-  const fs::path poses = fs::path(result) / "poses.txt";
-  ev.have_poses = fs::exists(poses);
-  if (ev.have_poses) {
-    const auto truth = readPoses(prefix + ".gt.txt");
-    ev.trajectory = trajectoryError(readPoses(poses.string()), truth);
-    ev.odometry = trajectoryError(odometryPoses(rawlog), truth);
-  }
+  evaluatePoses(result, prefix, rawlog, ev);
   return ev;
 }
 
