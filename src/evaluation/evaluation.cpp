@@ -9,6 +9,8 @@
 #include <map>
 #include <set>
 
+#include "by_scan.h"
+
 namespace dynamap {
 namespace {
 
@@ -16,46 +18,11 @@ BodyKey keyOf(const TruthRow& r) {
   return {r.kind, r.id};
 }
 
-/// The truth and the tracks, grouped by scan.
-struct ByScan {
-  std::map<std::size_t, std::vector<const TruthRow*>> bodies;
-  std::map<std::size_t, double> t;  // the truth's time of each scan
-  std::map<std::size_t, std::vector<const TrackRow*>> tracks;
-};
-
-ByScan groupByScan(const std::vector<TruthRow>& rows, const std::vector<TrackRow>& tracks) {
-  ByScan g;
-  for (const auto& r : rows) {
-    g.bodies[r.scan_index].push_back(&r);
-    g.t[r.scan_index] = r.t;
-  }
-  const std::size_t last = g.t.empty() ? 0 : g.t.rbegin()->first;
-  for (const auto& row : tracks) {
-    if (g.t.empty() || row.scan_index > last) {
-      throw std::invalid_argument("tracks: object " + std::to_string(row.object_id) + " at scan " +
-                                  std::to_string(row.scan_index) +
-                                  ", after the last scan of the truth (" + std::to_string(last) +
-                                  "): tracks and truth are not from the same log");
-    }
-    g.tracks[row.scan_index].push_back(&row);
-  }
-  return g;
-}
-
-const TruthRow* findBody(const std::vector<const TruthRow*>& bodies, BodyKey key) {
-  for (const TruthRow* b : bodies) {
-    if (keyOf(*b) == key) return b;
-  }
-  return nullptr;
-}
-
 std::vector<IdAssignment> assignIds(const ByScan& g, const EvalOptions& options) {
   std::map<int, std::map<BodyKey, std::size_t>> counts;
   std::map<int, IdAssignment> ids;
-  static const std::vector<const TruthRow*> kNone;
   for (const auto& [scan, rows] : g.tracks) {
-    const auto it = g.bodies.find(scan);
-    const auto& bodies = it == g.bodies.end() ? kNone : it->second;
+    const auto& bodies = rowsAt(g.bodies, scan);
     for (const TrackRow* row : rows) {
       IdAssignment& a = ids[row->object_id];
       a.track_id = row->object_id;
@@ -104,35 +71,34 @@ void findVisibility(const ByScan& g, const TruthMove& m, double next_start,
 void scoreWindow(const ByScan& g, const TruthMove& m, const std::map<int, BodyKey>& assigned,
                  const EvalOptions& options, MoveResult& r) {
   const BodyKey object{sim::BodyKind::Object, m.object_id};
-  for (auto it = g.bodies.find(r.visible_scan); it != g.bodies.end(); ++it) {
-    const double t = g.t.at(it->first);
-    if (!inDetectWindow(r, it->first, t, options)) break;
-    const TruthRow* b = findBody(it->second, object);
-    if (!b || sim::distance({b->x, b->y}, m.to) > options.place_tolerance_m) continue;
-    const auto tr = g.tracks.find(it->first);
-    if (tr == g.tracks.end()) continue;
-    std::set<int> ids_on_object;
-    for (const TrackRow* row : tr->second) {
-      if (!rowMatches(*row, *b, options)) continue;
-      r.matched = true;
-      ids_on_object.insert(row->object_id);
-      const auto a = assigned.find(row->object_id);
-      if (a != assigned.end() && a->second == object) {
-        if (!r.correct) {
-          r.correct = true;
-          r.first_correct_scan = it->first;
-          r.latency_s = t - r.visible_t;
-          r.latency_scans = it->first - r.visible_scan;
-        }
-      } else {
-        r.wrong_id = true;
-      }
-      for (const TruthRow* other : it->second) {
-        if (other != b && rowMatches(*row, *other, options)) r.double_match = true;
-      }
-    }
-    if (ids_on_object.size() > 1) r.double_match = true;
-  }
+  forEachWindowScan(g, m, r, options,
+                    [&](std::size_t scan, double t, const TruthRow& b,
+                        const std::vector<const TruthRow*>& bodies) {
+                      const auto tr = g.tracks.find(scan);
+                      if (tr == g.tracks.end()) return;
+                      std::set<int> ids_on_object;
+                      for (const TrackRow* row : tr->second) {
+                        if (!rowMatches(*row, b, options)) continue;
+                        r.matched = true;
+                        ids_on_object.insert(row->object_id);
+                        const auto a = assigned.find(row->object_id);
+                        if (a != assigned.end() && a->second == object) {
+                          if (!r.correct) {
+                            r.correct = true;
+                            r.first_correct_scan = scan;
+                            r.latency_s = t - r.visible_t;
+                            r.latency_scans = scan - r.visible_scan;
+                          }
+                        } else {
+                          r.wrong_id = true;
+                        }
+                        for (const TruthRow* other : bodies) {
+                          if (other != &b && rowMatches(*row, *other, options))
+                            r.double_match = true;
+                        }
+                      }
+                      if (ids_on_object.size() > 1) r.double_match = true;
+                    });
 }
 
 /// The start of the next move of the same object after `m`, or +inf.
@@ -163,6 +129,32 @@ LatencyStats latencyOf(const std::vector<MoveResult>& moves) {
 }
 
 }  // namespace
+
+ByScan groupByScan(const std::vector<TruthRow>& rows, const std::vector<TrackRow>& tracks) {
+  ByScan g;
+  for (const auto& r : rows) {
+    g.bodies[r.scan_index].push_back(&r);
+    g.t[r.scan_index] = r.t;
+  }
+  const std::size_t last = g.t.empty() ? 0 : g.t.rbegin()->first;
+  for (const auto& row : tracks) {
+    if (g.t.empty() || row.scan_index > last) {
+      throw std::invalid_argument("tracks: object " + std::to_string(row.object_id) + " at scan " +
+                                  std::to_string(row.scan_index) +
+                                  ", after the last scan of the truth (" + std::to_string(last) +
+                                  "): tracks and truth are not from the same log");
+    }
+    g.tracks[row.scan_index].push_back(&row);
+  }
+  return g;
+}
+
+const TruthRow* findBody(const std::vector<const TruthRow*>& bodies, BodyKey key) {
+  for (const TruthRow* b : bodies) {
+    if (keyOf(*b) == key) return b;
+  }
+  return nullptr;
+}
 
 bool inDetectWindow(const MoveResult& r, std::size_t scan, double t, const EvalOptions& options) {
   return scan >= r.visible_scan && (t <= r.visible_t + options.detect_window_s ||

@@ -3,6 +3,8 @@
 
 #include <map>
 
+#include "by_scan.h"
+
 namespace dynamap {
 namespace {
 
@@ -14,11 +16,30 @@ struct PlaceCounts {
   std::size_t reported_near = 0;  ///< object rows within kNearRadius
 };
 
-template <typename Row>
-std::map<std::size_t, std::vector<const Row*>> byScan(const std::vector<Row>& rows) {
-  std::map<std::size_t, std::vector<const Row*>> out;
-  for (const Row& r : rows) out[r.scan_index].push_back(&r);
+/// People rows by scan.
+std::map<std::size_t, std::vector<const PersonTrackRow*>> peopleByScan(
+    const std::vector<PersonTrackRow>& people) {
+  std::map<std::size_t, std::vector<const PersonTrackRow*>> out;
+  for (const PersonTrackRow& p : people) out[p.scan_index].push_back(&p);
   return out;
+}
+
+/// One scan of a missed move's window, the object's row `b` there (its new place `to`): a view,
+/// the people on and near its place, the objects reported near it.
+void countScan(const TruthRow& b, sim::Vec2 to, const std::vector<const PersonTrackRow*>& people,
+               const std::vector<const TrackRow*>& objects, const EvalOptions& options,
+               PlaceCounts& c) {
+  const auto near = [&](double x, double y, double within) {
+    return sim::distance({x, y}, to) <= within;
+  };
+  c.views += b.hits >= options.min_visible_hits;
+  bool on = false, close = false;
+  for (const PersonTrackRow* p : people) {
+    on = on || near(p->x, p->y, b.diameter / 2 + kOnPlaceMargin);
+    close = close || near(p->x, p->y, kNearRadius);
+  }
+  c.person_on += on, c.people_near += close;
+  for (const TrackRow* o : objects) c.reported_near += near(o->cx, o->cy, kNearRadius);
 }
 
 MissCause causeOf(const PlaceCounts& c, const EvalOptions& options) {
@@ -32,11 +53,13 @@ MissCause causeOf(const PlaceCounts& c, const EvalOptions& options) {
 }  // namespace
 
 const MissCauseName kMissCauses[5] = {
-    {MissCause::PersonOnPlace, "person_on_place", "a person track on its place"},
-    {MissCause::PeopleNear, "people_near", "people within 1 m"},
-    {MissCause::ReportedOffPlace, "reported_off_place", "an object reported near, off its place"},
-    {MissCause::FewViews, "few_views", "seen in few scans"},
-    {MissCause::Unreported, "unreported", "nothing reported near"},
+    {MissCause::PersonOnPlace, "person_on_place", "a person track on its place",
+     "a person on its place"},
+    {MissCause::PeopleNear, "people_near", "people within 1 m", "people within 1 m"},
+    {MissCause::ReportedOffPlace, "reported_off_place", "an object reported near, off its place",
+     "reported off its place"},
+    {MissCause::FewViews, "few_views", "seen in few scans", "seen in few scans"},
+    {MissCause::Unreported, "unreported", "nothing reported near", "nothing reported near"},
 };
 
 const char* toString(MissCause c) {
@@ -56,40 +79,19 @@ const char* describe(MissCause c) {
 void explainMisses(ObjectScores& scores, const std::vector<TruthRow>& rows,
                    const std::vector<TruthMove>& moves, const std::vector<TrackRow>& tracks,
                    const std::vector<PersonTrackRow>& people, const EvalOptions& options) {
-  const auto truth = byScan(rows);
-  const auto objects = byScan(tracks);
-  const auto persons = byScan(people);
+  const ByScan g = groupByScan(rows, tracks);
+  const auto persons = peopleByScan(people);
   std::map<int, const TruthMove*> move_of;
   for (const TruthMove& m : moves) move_of[m.move_id] = &m;
   for (MoveResult& r : scores.moves) {
     const auto m = move_of.find(r.move_id);
     if (!r.notDetected() || m == move_of.end()) continue;
-    const sim::Vec2 to = m->second->to;
-    const auto near = [&](double x, double y, double within) {
-      return sim::distance({x, y}, to) <= within;
-    };
     PlaceCounts c;
-    for (auto it = truth.find(r.visible_scan); it != truth.end(); ++it) {
-      if (it->second.empty() || !inDetectWindow(r, it->first, it->second[0]->t, options)) break;
-      const TruthRow* b = nullptr;
-      for (const TruthRow* row : it->second) {
-        if (row->kind == sim::BodyKind::Object && row->id == r.object_id) b = row;
-      }
-      if (b == nullptr || sim::distance({b->x, b->y}, to) > options.place_tolerance_m) continue;
-      c.views += b->hits >= options.min_visible_hits;
-      const auto ps = persons.find(it->first);
-      if (ps != persons.end()) {
-        bool on = false, close = false;
-        for (const PersonTrackRow* p : ps->second) {
-          on = on || near(p->x, p->y, b->diameter / 2 + kOnPlaceMargin);
-          close = close || near(p->x, p->y, kNearRadius);
-        }
-        c.person_on += on, c.people_near += close;
-      }
-      const auto os = objects.find(it->first);
-      if (os == objects.end()) continue;
-      for (const TrackRow* o : os->second) c.reported_near += near(o->cx, o->cy, kNearRadius);
-    }
+    forEachWindowScan(
+        g, *m->second, r, options,
+        [&](std::size_t scan, double, const TruthRow& b, const std::vector<const TruthRow*>&) {
+          countScan(b, m->second->to, rowsAt(persons, scan), rowsAt(g.tracks, scan), options, c);
+        });
     r.missed_because = causeOf(c, options);
   }
 }

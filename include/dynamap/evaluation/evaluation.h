@@ -103,8 +103,9 @@ enum class MissCause {
 /// Every cause but None, in MissCause's order: its key in metrics.json and its words.
 struct MissCauseName {
   MissCause cause;
-  const char* key;   ///< "person_on_place", "people_near", ...
+  const char* key;   ///< "person_on_place", "people_near", ...: missed_because, missed_<key>
   const char* text;  ///< "a person track on its place", ...
+  const char* row;   ///< "a person on its place", ...: its row of eval --summary (short)
 };
 extern const MissCauseName kMissCauses[5];
 /// The cause's key; nullptr for None.
