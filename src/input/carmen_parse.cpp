@@ -332,6 +332,12 @@ bool CarmenParams::applyParam(const std::string& name, const std::string& value,
       throw CarmenParseError("PARAM " + name + ": " + value +
                              " is no angle of a laser (over 360 deg)");
     }
+    // The robot's pose is the line's less the offset: a damaged offset would throw it anywhere.
+    if (!positive_only && std::abs(v) > kMaxLaserOffset) {
+      throw CarmenParseError("PARAM " + name + ": " + value + " is no laser mount (over " +
+                             std::to_string(static_cast<int>(kMaxLaserOffset)) +
+                             " m from the robot's centre)");
+    }
     const bool radians = k.field == &CarmenLaserParams::fov_deg && v <= kMaxRadianFov;
     (this->*k.laser).*k.field = radians ? v / kDegToRad : v;
     if (radians && note) {
@@ -412,6 +418,25 @@ mrpt::obs::CObservation2DRangeScan::Ptr makeScan(const CarmenLaser& laser,
   }
   scan->loadFromVectors(n, laser.ranges.data(), valid.data());
   return scan;
+}
+
+CarmenRobotPoses robotPoses(const CarmenLaser& laser, const CarmenParams& params) {
+  CarmenRobotPoses out;
+  out.pose = mrpt::poses::CPose2D(laser.pose);
+  if (laser.odometry) out.odometry = mrpt::poses::CPose2D(*laser.odometry);
+  if (laser.kind == CarmenLaserKind::Robot) return out;
+  const CarmenLaserParams& lp = laser.kind == CarmenLaserKind::Rear ? params.rear : params.front;
+  const double offset = lp.offset_x.value_or(0.0);
+  // From a TPose2D, as the line's own pose: the heading as logged, not wrapped.
+  const auto robot = [offset](const mrpt::math::TPose2D& p) {
+    return mrpt::poses::CPose2D(
+        mrpt::math::TPose2D(p.x - offset * std::cos(p.phi), p.y - offset * std::sin(p.phi), p.phi));
+  };
+  out.pose = robot(laser.pose);
+  const bool corrected = laser.odometry && laser.odometry->x == laser.pose.x &&
+                         laser.odometry->y == laser.pose.y && laser.odometry->phi == laser.pose.phi;
+  if (corrected) out.odometry = out.pose;
+  return out;
 }
 
 namespace carmen {

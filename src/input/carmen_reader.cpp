@@ -188,12 +188,9 @@ bool CarmenReader::handleLine(const std::string& line, CarmenEvent& out) {
     out.t = laser.t;
     checkGeometry(laser);
     out.scan = makeScan(laser, params_, options_);
-    out.pose = mrpt::poses::CPose2D(laser.pose);
-    if (laser.odometry) {
-      out.odometry = mrpt::poses::CPose2D(*laser.odometry);
-    } else {
-      out.odometry = last_odometry_;
-    }
+    const CarmenRobotPoses robot = robotPoses(laser, params_);
+    out.pose = robot.pose;
+    out.odometry = robot.odometry ? *robot.odometry : last_odometry_;
     ++stats_.scans;
     return true;
   }

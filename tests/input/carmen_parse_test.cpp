@@ -63,6 +63,11 @@ TEST(CarmenParse, LineTypes) {
 TEST(CarmenParams, OnlyTheLaserOnesMatter) {
   CarmenParams p;
   EXPECT_TRUE(p.applyParam("robot_frontlaser_offset", "-0.04"));
+  // An offset over 10 m would throw the robot's pose (the line's less the offset) anywhere.
+  CarmenParams q;
+  EXPECT_TRUE(q.applyParam("robot_rearlaser_offset", "-10"));
+  EXPECT_THROW(q.applyParam("robot_frontlaser_offset", "10.5"), CarmenParseError);
+  EXPECT_THROW(q.applyParam("robot_rearlaser_offset", "-1e300"), CarmenParseError);
   EXPECT_TRUE(p.applyParam("laser_front_laser_fov", "180"));
   EXPECT_FALSE(p.applyParam("robot_use_sonar", "off"));
   EXPECT_THROW(p.applyParam("laser_front_laser_resolution", "0"), CarmenParseError);

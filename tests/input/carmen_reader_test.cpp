@@ -199,8 +199,10 @@ TEST_F(CarmenTest, PosesUnderGroundTruthAndOdometry) {
   EXPECT_EQ(gt->poseSource(), PoseSource::GroundTruth);
   auto odo = openCarmenSource(path, PoseSource::Odometry, {});
   EXPECT_EQ(odo->poseSource(), PoseSource::Odometry);
-  // Ground truth: the line's pose; odometry: FLASER/RLASER odom fields, ROBOTLASER1 the last ODOM.
-  const mrpt::poses::CPose2D want_gt[] = {{5, 6, 0.5}, {7, 8, -0.5}, {2, 3, M_PI / 2}};
+  // Ground truth: the line's pose (FLASER's is the laser's: 0.25 m ahead of the robot's);
+  // odometry: FLASER/RLASER odom fields, ROBOTLASER1 the last ODOM.
+  const mrpt::poses::CPose2D want_gt[] = {
+      {5 - 0.25 * std::cos(0.5), 6 - 0.25 * std::sin(0.5), 0.5}, {7, 8, -0.5}, {2, 3, M_PI / 2}};
   const mrpt::poses::CPose2D want_odo[] = {{4, 5.5, 0.4}, {7.5, 8.5, -0.25}, {1, 2, 0.1}};
   ScanRecord r;
   for (std::size_t k = 0; k < 3; ++k) {
@@ -217,6 +219,29 @@ TEST_F(CarmenTest, PosesUnderGroundTruthAndOdometry) {
   EXPECT_FALSE(odo->next(r));
   EXPECT_EQ(gt->stats().scans, 3u);
   EXPECT_THROW(openCarmenSource(path, PoseSource::Simplemap, {}), InputError);
+}
+
+// A corrected log writes its corrected pose, the laser's, into both triples: the robot's pose and
+// odometry both lie the offset behind it, and the laser lands on the line's pose. A line whose
+// triples differ (CARMEN's logger) keeps its odom fields as the robot's odometry.
+TEST_F(CarmenTest, CorrectedLinesPoseIsTheLasersInBothTriples) {
+  const std::string path =
+      write("corrected.log", "PARAM robot_frontlaser_offset -0.04 0 host 0\nFLASER 180" +
+                                 ranges(180) + " 3.0 4.0 1.0 3.0 4.0 1.0 1.0 host 1.0\nFLASER 180" +
+                                 ranges(180) + " 3.0 4.0 1.0 2.9 4.0 1.0 2.0 host 2.0\n");
+  const auto events = readAll(path);
+  ASSERT_EQ(events.size(), 2u);
+  const mrpt::poses::CPose2D robot(3 + 0.04 * std::cos(1.0), 4 + 0.04 * std::sin(1.0), 1.0);
+  for (const CarmenEvent& e : events) {
+    EXPECT_LT((e.pose - robot).norm(), 1e-12);
+    EXPECT_DOUBLE_EQ(e.pose.phi(), 1.0);
+    const mrpt::poses::CPose3D laser = mrpt::poses::CPose3D(e.pose) + e.scan->sensorPose;
+    EXPECT_NEAR(laser.x(), 3.0, 1e-12);
+    EXPECT_NEAR(laser.y(), 4.0, 1e-12);
+  }
+  ASSERT_TRUE(events[0].odometry && events[1].odometry);
+  EXPECT_LT((*events[0].odometry - robot).norm(), 1e-12);
+  EXPECT_LT((*events[1].odometry - mrpt::poses::CPose2D(2.9, 4.0, 1.0)).norm(), 1e-12);
 }
 
 TEST_F(CarmenTest, RobotLaserWithoutOdometryIsAnErrorUnderOdometryOnly) {

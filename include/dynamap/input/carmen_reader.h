@@ -129,9 +129,11 @@ struct CarmenLaserParams {
 /// The PARAM state of a log. applyParam returns false for a PARAM that does not matter here and
 /// throws CarmenParseError when one that matters has a value that is not a number. A field of
 /// view of at most kMaxRadianFov is taken as radians (no laser scanner spans under 6.3 deg;
-/// logs written as `laser_front_laser_fov 3.14159` exist) and `note`, when given, says so.
+/// logs written as `laser_front_laser_fov 3.14159` exist) and `note`, when given, says so. A
+/// laser offset over kMaxLaserOffset (either sign) is a CarmenParseError.
 struct CarmenParams {
   static constexpr double kMaxRadianFov = 6.2832;  // 2 pi, rounded up
+  static constexpr double kMaxLaserOffset = 10;    // [m] no robot carries its laser farther out
   CarmenLaserParams front, rear;
   bool applyParam(const std::string& name, const std::string& value, std::string* note = nullptr);
 };
@@ -162,6 +164,18 @@ mrpt::obs::CObservation2DRangeScan::Ptr makeScan(const CarmenLaser& laser,
                                                  const CarmenParams& params,
                                                  const CarmenOptions& options);
 
+/// The robot's poses of a laser line, ground truth and odometry. ROBOTLASER1 names both. On
+/// FLASER/RLASER, CARMEN's writers put the *laser's* pose in `x y theta` (the robot's pose plus
+/// the PARAM offset along its heading) and the robot's odometry in the odom fields: the robot's
+/// pose is the line's less the offset. A corrected log writes its corrected pose into both
+/// triples, equal on every line; that pose is the laser's (scans laid at it fit each other
+/// better than 4 cm off, on Freiburg 079), so there the odom fields lose the offset too.
+struct CarmenRobotPoses {
+  mrpt::poses::CPose2D pose;
+  std::optional<mrpt::poses::CPose2D> odometry;  ///< none: the line has no odom fields
+};
+CarmenRobotPoses robotPoses(const CarmenLaser& laser, const CarmenParams& params);
+
 /// One thing read from a log, in log order.
 struct CarmenEvent {
   enum class Kind { Scan, Odometry };
@@ -170,8 +184,8 @@ struct CarmenEvent {
   double t = 0;          ///< ipc_timestamp [s]
   // Kind::Scan:
   mrpt::obs::CObservation2DRangeScan::Ptr scan;
-  mrpt::poses::CPose2D pose;                     ///< the line's (ground-truth) pose
-  std::optional<mrpt::poses::CPose2D> odometry;  ///< odom fields, else the latest ODOM
+  mrpt::poses::CPose2D pose;                     ///< the robot's (ground-truth) pose: robotPoses
+  std::optional<mrpt::poses::CPose2D> odometry;  ///< robotPoses' odometry, else the latest ODOM
   // Kind::Odometry: odometry holds the ODOM pose; tv/rv its velocities.
   double tv = 0, rv = 0;
 };
@@ -240,13 +254,13 @@ class CarmenReader {
 /// False for unreadable, empty or binary files; never throws.
 bool looksLikeCarmen(const std::string& path);
 
-/// A ScanSource over a CARMEN log. Auto and GroundTruth: the laser line's pose; Odometry, with
-/// options.odometry LaserLines: the odom fields of FLASER/RLASER, or the latest ODOM line for
-/// ROBOTLASER1 (a scan with none before it is an InputError naming its line); with OdomLines: the
-/// ODOM lines interpolated to each scan's time under options.odometry_track (a scan with none
-/// near enough, or a log whose timestamps were degenerate, is an InputError naming its line);
-/// Fixed: the line's pose (withFixedPose replaces it); Simplemap: InputError. ScanRecord::index
-/// counts scans from 0. poseDetail() says which stream the poses are.
+/// A ScanSource over a CARMEN log. Auto and GroundTruth: the robot's pose of the laser line
+/// (robotPoses); Odometry, with options.odometry LaserLines: its odometry (robotPoses), or the
+/// latest ODOM line for ROBOTLASER1 (a scan with none before it is an InputError naming its line);
+/// with OdomLines: the ODOM lines interpolated to each scan's time under options.odometry_track (a
+/// scan with none near enough, or a log whose timestamps were degenerate, is an InputError naming
+/// its line); Fixed: the line's pose (withFixedPose replaces it); Simplemap: InputError.
+/// ScanRecord::index counts scans from 0. poseDetail() says which stream the poses are.
 std::unique_ptr<ScanSource> openCarmenSource(const std::string& path, PoseSource source,
                                              const CarmenOptions& options);
 
