@@ -383,7 +383,7 @@ mrpt::obs::CObservation2DRangeScan::Ptr makeScan(const CarmenLaser& laser,
                                                  const CarmenParams& params,
                                                  const CarmenOptions& options) {
   const std::size_t n = laser.ranges.size();
-  const CarmenLaserParams& lp = laser.kind == CarmenLaserKind::Rear ? params.rear : params.front;
+  const CarmenLaserParams& lp = params.of(laser.kind);
   LaserGeometry g;
   mrpt::poses::CPose2D mount;  // the laser's pose on the robot, x forward
   double max_range = options.default_max_range;
@@ -425,7 +425,7 @@ CarmenRobotPoses robotPoses(const CarmenLaser& laser, const CarmenParams& params
   out.pose = mrpt::poses::CPose2D(laser.pose);
   if (laser.odometry) out.odometry = mrpt::poses::CPose2D(*laser.odometry);
   if (laser.kind == CarmenLaserKind::Robot) return out;
-  const CarmenLaserParams& lp = laser.kind == CarmenLaserKind::Rear ? params.rear : params.front;
+  const CarmenLaserParams& lp = params.of(laser.kind);
   const double offset = lp.offset_x.value_or(0.0);
   // From a TPose2D, as the line's own pose: the heading as logged, not wrapped.
   const auto robot = [offset](const mrpt::math::TPose2D& p) {

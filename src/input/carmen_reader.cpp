@@ -153,7 +153,7 @@ void CarmenReader::checkGeometry(const CarmenLaser& laser) {
   bool& checked = geometry_checked_[static_cast<int>(laser.kind)];
   if (checked || laser.kind == CarmenLaserKind::Robot) return;
   checked = true;
-  const CarmenLaserParams& lp = laser.kind == CarmenLaserKind::Rear ? params_.rear : params_.front;
+  const CarmenLaserParams& lp = params_.of(laser.kind);
   const std::string what = geometryDisagreement(laser.ranges.size(), lp, options_);
   if (!what.empty()) warn("line " + std::to_string(input_->lineNumber()) + ": " + what);
 }

@@ -135,6 +135,11 @@ struct CarmenParams {
   static constexpr double kMaxRadianFov = 6.2832;  // 2 pi, rounded up
   static constexpr double kMaxLaserOffset = 10;    // [m] no robot carries its laser farther out
   CarmenLaserParams front, rear;
+  /// The PARAMs of an old-format laser line of `kind`: the rear laser's for RLASER, else the
+  /// front one's.
+  const CarmenLaserParams& of(CarmenLaserKind kind) const {
+    return kind == CarmenLaserKind::Rear ? rear : front;
+  }
   bool applyParam(const std::string& name, const std::string& value, std::string* note = nullptr);
 };
 
