@@ -320,8 +320,8 @@ bool CarmenParams::applyParam(const std::string& name, const std::string& value,
   for (const Key& k : kKeys) {
     if (name != k.name) continue;
     const double v = paramNumber(name, value);
-    const bool positive_only = k.field != &CarmenLaserParams::offset_x;
-    if (positive_only && v <= 0) {
+    const bool offset = k.field == &CarmenLaserParams::offset_x;  // the one that may be negative
+    if (!offset && v <= 0) {
       throw CarmenParseError("PARAM " + name + ": " + value + " must be positive");
     }
     // No laser sweeps more than a turn (nor steps more than one between beams): 1e300 is a
@@ -333,7 +333,7 @@ bool CarmenParams::applyParam(const std::string& name, const std::string& value,
                              " is no angle of a laser (over 360 deg)");
     }
     // The robot's pose is the line's less the offset: a damaged offset would throw it anywhere.
-    if (!positive_only && std::abs(v) > kMaxLaserOffset) {
+    if (offset && std::abs(v) > kMaxLaserOffset) {
       throw CarmenParseError("PARAM " + name + ": " + value + " is no laser mount (over " +
                              std::to_string(static_cast<int>(kMaxLaserOffset)) +
                              " m from the robot's centre)");
