@@ -79,6 +79,8 @@ std::vector<Option<O>> trackerRows() {
        "a new track near a lost person (not near an object) is them after moving this long (at most confirm_s)"},
       {"reacquire_travel", &O::reacquire_travel, Range::closed(0, 100), "m",
        "...and gone this far (at most confirm_travel)"},
+      {"reacquire_unseen_speed", &O::reacquire_unseen_speed, Range::closed(0, 20), "m/s",
+       "...but one appearing where the scan before did not see, only within gate + this speed times the time the person was unseen (at most max_speed)"},
       {"empty_scans", &O::empty_scans, Range::closed(1, 1000), "",
        "a lost person's place seen empty this many scans in a row ends them"},
       {"exclusion_radius", &O::exclusion_radius, Range::closed(0, 5), "m",
@@ -110,6 +112,9 @@ void PeopleOptions::validate(const std::string& src) const {
   if (reacquire_s > confirm_s) rejectValue(src, kSection, "reacquire_s", "must be at most confirm_s");
   if (reacquire_travel > confirm_travel) {
     rejectValue(src, kSection, "reacquire_travel", "must be at most confirm_travel");
+  }
+  if (reacquire_unseen_speed > max_speed) {
+    rejectValue(src, kSection, "reacquire_unseen_speed", "must be at most max_speed");
   }
   if (confirm_static_s < confirm_s) {
     rejectValue(src, kSection, "confirm_static_s", "must be at least confirm_s");

@@ -167,7 +167,7 @@ void PersonTracker::advanceTentative(PersonTrack& tr, double t) {
   // A person back in view is known sooner (never what appeared near an object: an object
   // moving off must not take a person's id; nor what stands still, whose velocity is noise).
   if (!st.near_static && moving >= options_.reacquire_s && travel >= options_.reacquire_travel &&
-      reidentify(tr.filter.x(), tr.filter.y(), t) != nullptr) {
+      backInView(st, reidentify(tr.filter.x(), tr.filter.y(), t))) {
     confirm(tr, t);
     return;
   }
@@ -180,6 +180,17 @@ void PersonTracker::advanceTentative(PersonTrack& tr, double t) {
   const double needed = st.near_static && !legs ? options_.confirm_static_s : options_.confirm_s;
   if (moving < needed || travel < options_.confirm_travel) return;
   confirm(tr, t);
+}
+
+bool PersonTracker::backInView(const TentativeState& st, const PersonTrack* lost) const {
+  if (lost == nullptr) return false;
+  if (st.in_view_before) return true;
+  // The view came to it: a cylinder the robot turns to jumps 0.3 m while more of its outline
+  // comes into view, and someone lost 4-16 m away could have walked there unseen. Only someone
+  // who stood or lingered out of view is expected so near where they were last detected.
+  const double unseen = std::max(0.0, st.born_t - lost->last_detected_t);
+  return std::hypot(lost->detected_x - st.born_x, lost->detected_y - st.born_y) <=
+         options_.gate + options_.reacquire_unseen_speed * unseen;
 }
 
 PersonTrack* PersonTracker::reidentify(double x, double y, double t) {
@@ -420,6 +431,8 @@ void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanH
   for (PersonTrack& tr : tracks_) {
     if (isReported(tr)) record(tr, t);
   }
+  last_hits_ = hits;  // the vectors keep their capacity: nothing allocated once warm
+  have_hits_ = true;
 }
 
 bool PersonTracker::legOfPerson(const PersonDetection& d, double t) const {
@@ -453,6 +466,9 @@ void PersonTracker::startTrack(const PersonDetection& d, double t) {
                  ConstantVelocityFilter(d.x, d.y, options_.measurement_std, kInitialVelocityStd),
                  TentativeState{t, d.x, d.y, near_static, t, d.x, d.y, 1,
                                 d.legs == 2 ? 1 : 0}};
+  std::get<TentativeState>(tr.state).in_view_before =
+      have_hits_ &&
+      viewDisc(last_hits_, d.x, d.y, options_.hold_radius) != DiscView::Unseen;
   tr.last_detected_t = t;
   tr.detected_x = d.x;
   tr.detected_y = d.y;

@@ -72,6 +72,8 @@ TEST(PeopleOptions, EveryRuleNamesItsKey) {
       {"reacquire_s = 0.7", "reacquire_s"},          // above confirm_s
       {"reacquire_travel = 0.6", "reacquire_travel"},  // above confirm_travel
       {"reacquire_travel = -0.1", "reacquire_travel"},
+      {"reacquire_unseen_speed = 2.5", "reacquire_unseen_speed"},  // above max_speed
+      {"reacquire_unseen_speed = -0.1", "reacquire_unseen_speed"},
       {"gate = fast", "gate"},
       {"enabled = maybe", "enabled"},
       {"gait = 1", "gait"},

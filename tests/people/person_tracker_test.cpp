@@ -445,11 +445,15 @@ struct StoodUnseenRun {
 };
 StoodUnseenRun runStoodUnseen(double seen_empty_from) {
   PersonTracker tracker;
-  const ScanHits nothing;  // no beam: every place unseen
-  ScanHits through = nothing;  // one beam from (2, -3) north, through A's place, to 10 m
-  through.sensor_x = 2, through.sensor_y = -3, through.max_range = 10;
-  through.angles = {M_PI / 2};
-  through.ranges = {-1.f};
+  // One beam from (2, -3) through where B comes back, to 10 m: B walks into view there (and is
+  // taken back at once, reacquire_unseen_speed); every other place is unseen.
+  ScanHits window;
+  window.sensor_x = 2, window.sensor_y = -3, window.max_range = 10;
+  window.angles = {std::atan2(1.5 + 3, 3.5 - 2)};
+  window.ranges = {-1.f};
+  ScanHits through = window;  // and one north, through A's place
+  through.angles.push_back(M_PI / 2);
+  through.ranges.push_back(-1.f);
   StoodUnseenRun out;
   for (int k = 0; k <= 65; ++k) {
     const double t = 0.2 * k;
@@ -458,7 +462,7 @@ StoodUnseenRun runStoodUnseen(double seen_empty_from) {
     if (t >= 10.0) dets.push_back({2, -(t - 10), 0});                   // A walks off
     if (t <= 2.0) dets.push_back({8 - t, 3, 0});                        // B
     if (t >= 6.0) dets.push_back({3.5 + (t - 6), 1.5, 0});              // B back
-    tracker.update(dets, t >= seen_empty_from ? through : nothing, t);
+    tracker.update(dets, t >= seen_empty_from ? through : window, t);
   }
   for (const PersonRow& r : tracker.reported()) {
     if (std::hypot(r.x - 2, r.y + 3) < 0.5) out.a_id = r.person_id;
@@ -478,6 +482,41 @@ TEST(PersonTracker, SomeoneWhoStoodOutOfViewTakesTheirIdBackWhenTheyWalkOff) {
   const StoodUnseenRun seen = runStoodUnseen(8.0);
   EXPECT_EQ(seen.a_id, 2);
   EXPECT_EQ(seen.b_id, 1);
+}
+
+// A walks along x at 1 m/s, detected until 2 s, then unseen (lost from 6 s). At 8 s a body
+// appears 4.5 m from A's last detection, its first views jumping 0.3 m along x (more of its
+// outline coming into view) before it stands, or walking on at 1 m/s. When the scan before saw
+// its place, it walked into view: A back at once. When the view came to it (nothing saw the
+// place before) and A, unseen 6 s, would have had to walk there (beyond gate +
+// reacquire_unseen_speed x 6 s = 2.4 m), the body that stands is no person; the one that walks
+// on is A, once confirmed by walking (confirm_s, confirm_travel).
+int idAppearingAt(bool place_seen_before, bool walks_on) {
+  PersonTracker tracker;
+  ScanHits unseen;  // no beam
+  ScanHits seen;    // one beam from (6, -3) north through (6, 2), to 10 m
+  seen.sensor_x = 6, seen.sensor_y = -3, seen.max_range = 10;
+  seen.angles = {M_PI / 2};
+  seen.ranges = {-1.f};
+  int id = 0;
+  for (int k = 0; k <= 60; ++k) {
+    const double t = 0.2 * k;
+    std::vector<PersonDetection> dets;
+    if (t <= 2.0) dets.push_back({t, 0, 2});
+    const double x = walks_on ? 6 + (t - 8) : 6 + std::min(0.3, 0.15 * std::round((t - 8) / 0.2));
+    if (t >= 8.0) dets.push_back({x, 2, 0});
+    tracker.update(dets, place_seen_before && t < 8.0 ? seen : unseen, t);
+    for (const PersonRow& r : tracker.reported()) {
+      if (t >= 8.0 && r.x > 5) id = r.person_id;
+    }
+  }
+  return id;
+}
+
+TEST(PersonTracker, ABodyTheViewComesToFarFromWhereSomeoneWasLostIsNotThem) {
+  EXPECT_EQ(idAppearingAt(true, false), 1);   // walked into view, then stood: A back
+  EXPECT_EQ(idAppearingAt(false, false), 0);  // was there when the robot looked: no person
+  EXPECT_EQ(idAppearingAt(false, true), 1);   // walks on: A, confirmed by walking
 }
 
 // --- people standing still, and the object table ---------------------------------------------

@@ -66,6 +66,12 @@ struct PeopleOptions {
   /// person once it has kept moving this long; [0, confirm_s]
   double reacquire_s = 0.2;
   double reacquire_travel = 0.25;  ///< [m] ...and gone this far; [0, confirm_travel]
+  /// [m/s] ...but one that appeared where the scan before did not see (the view came to it, not
+  /// it into view) only within gate + this x the time the person was unseen: someone who stood
+  /// or lingered out of view. Farther, a body that was there all along (an object the robot
+  /// turns to) would take the id of anyone lost within walking reach; it is confirmed by walking
+  /// (confirm_s, confirm_travel) instead, and re-identified then; [0, max_speed]
+  double reacquire_unseen_speed = 0.3;
   int empty_scans = 3;            ///< a lost person's place seen empty this many scans in a row ends them; [1, 1000]
   /// [m] no object is confirmed this near a person (confirmed, or held standing): their legs
   /// are no object; one put down beside them is judged once they have left. 0 = off; [0, 5]

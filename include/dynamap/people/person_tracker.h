@@ -22,7 +22,8 @@
 // coast_s (walking), or seen empty, a person is Lost: kept lost_s, and a track confirmed within
 // reach of where they were last detected (reid_distance, and gate + max_speed x the time since)
 // takes their id back, the nearest such person first; such a track is confirmed after
-// reacquire_s and reacquire_travel. One who went out of view standing and whose id went so to
+// reacquire_s and reacquire_travel, if it appeared where the scan before saw or within
+// reacquire_unseen_speed's reach (else by walking, as a new person, and re-identified then). One who went out of view standing and whose id went so to
 // someone else gets it back when they walk off from their place (takeBack).
 
 #include <cstddef>
@@ -67,6 +68,10 @@ struct TentativeState {
   int detections = 0;             ///< detections so far
   int leg_pairs = 0;              ///< ...of which were a pair of legs
   int shaped = 0;                 ///< ...of which the leg classifier saw as a pair of legs
+  /// The scan before the first detection saw its place (empty, or a body there not yet
+  /// detected, within hold_radius of it): it came into view, rather than the view coming to it
+  /// (reacquire_unseen_speed).
+  bool in_view_before = false;
   /// Where it was seen as a pair of legs first since it has been moving, and last: a pair that
   /// moves, not a track jumping between two legs (or two small objects) seen one at a time.
   bool pair_seen = false;
@@ -187,6 +192,9 @@ class PersonTracker {
   /// The lost person a track confirmed now at (x, y) is (nearest last detection within reach),
   /// or nullptr: a new person.
   PersonTrack* reidentify(double x, double y, double t);
+  /// Whether a tentative track `st` is `lost` (reidentify's choice, or nullptr) back in view
+  /// soon enough to take the quick route (reacquire_unseen_speed).
+  bool backInView(const TentativeState& st, const PersonTrack* lost) const;
   void confirm(PersonTrack& tr, double t);
   /// Someone went out of view standing, and re-identification gave their id to another track
   /// (nobody saw their place empty: they may as well still be there). Until their place is
@@ -228,6 +236,8 @@ class PersonTracker {
   bool have_t_ = false;
   double last_t_ = 0;
   ShareAverage free_share_;  // of the scans so far
+  ScanHits last_hits_;       // the scan before this one (TentativeState::in_view_before)
+  bool have_hits_ = false;
   int next_key_ = 1;
   int next_id_ = 1;
 };
