@@ -23,8 +23,9 @@
 // reach of where they were last detected (reid_distance, and gate + max_speed x the time since)
 // takes their id back, the nearest such person first; such a track is confirmed after
 // reacquire_s and reacquire_travel, if it appeared where the scan before saw or within
-// reacquire_unseen_speed's reach (else by walking, as a new person, and re-identified then). One who went out of view standing and whose id went so to
-// someone else gets it back when they walk off from their place (takeBack).
+// reacquire_unseen_speed's reach (else by walking, as a new person, and re-identified then).
+// One who went out of view standing and whose id went so to someone else gets it back when
+// they walk off from their place (takeBack).
 
 #include <cstddef>
 #include <variant>
