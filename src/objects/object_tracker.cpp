@@ -139,7 +139,9 @@ void ObjectTracker::confirmTentatives(const ScanView& view, double t, std::size_
       tent->restart();
       continue;
     }
-    if (nearKeepOut(tent->shape)) {  // a person there now: judged again once they have left
+    if (!tent->kept_out && tent->run.passes > 0) tent->settling_before_people = true;
+    if (!tent->settling_before_people && nearKeepOut(tent->shape)) {
+      // A person there now: judged again once they have left.
       tent->restart();
       tent->kept_out = true;
       pending_.insert(key);

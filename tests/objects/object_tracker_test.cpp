@@ -129,6 +129,22 @@ TEST(ObjectTracker, AnObjectWhereAPersonStandsIsReportedOnceTheyHaveLeft) {
   EXPECT_NEAR(run.tracker.objects()[0].shape.cx, 1.0, 0.05);
 }
 
+// A bin stands in view, and its cluster has begun to settle, when someone walks up and stays
+// beside it: it is no part of them (they came to it), and it is reported while they stand
+// there. (One that appears with them beside it waits until they have left: the test above.)
+TEST(ObjectTracker, AnObjectSettlingBeforeSomeoneCameNearIsReportedWhileTheyStand) {
+  TrackerRun run;
+  const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);
+  run.steps(10, pose, {});
+  run.steps(5, pose, {{1.0, 0.5, 0.4}});  // D has crossed, its size is settling
+  ASSERT_TRUE(run.tracker.objects().empty());
+  run.tracker.setKeepOut({{1.0, 0.5, 0.5}});  // someone walks up to it and stays
+  run.steps(20, pose, {{1.0, 0.5, 0.4}});
+  ASSERT_EQ(run.tracker.objects().size(), 1u);
+  EXPECT_EQ(run.tracker.objects()[0].state, ObjectState::Present);
+  EXPECT_NEAR(run.tracker.objects()[0].shape.cx, 1.0, 0.05);
+}
+
 TEST(ObjectTracker, AWithdrawnObjectIsNeverAnIdentityAgain) {
   TrackerRun run;
   const mrpt::poses::CPose2D pose(-2.0, 0.0, 0.0);

@@ -45,7 +45,9 @@ class ObjectTracker {
   /// Discs (x, y, r) where something that keeps moving is (people, from a layer above): a
   /// cluster centred in one is not confirmed as an object; once no disc holds it, only scans
   /// that see it occupied count towards confirming it (what the person's legs left in D, not
-  /// yet seen empty, is no object). Applies from the next update on.
+  /// yet seen empty, is no object). A cluster that began counting towards confirmation before
+  /// any disc held it is not held back (Tentative::settling_before_people). Applies from the
+  /// next update on.
   struct KeepOut {
     double x, y, r;
   };

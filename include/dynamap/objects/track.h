@@ -59,6 +59,10 @@ struct Tentative {
   /// A person stood on it (KeepOut): from then on only scans that see it occupied count, so
   /// the cells their legs left, not yet seen empty, are never an object.
   bool kept_out = false;
+  /// It began counting passes before any person's keep-out covered it: something settling
+  /// there before anyone came near. A person who then walks up to it or passes by does not hold
+  /// it back (it is not their legs); a track a keep-out covered first never is so.
+  bool settling_before_people = false;
   /// The sizes fitted to its whole outline, in the scans of this run that showed it whole
   /// (ObjectOptions::outline_jump): a first size before its cells have all crossed D.
   OutlineSizes outline;
