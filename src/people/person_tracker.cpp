@@ -432,7 +432,6 @@ void PersonTracker::update(const std::vector<PersonDetection>& dets, const ScanH
     if (isReported(tr)) record(tr, t);
   }
   last_hits_ = hits;  // the vectors keep their capacity: nothing allocated once warm
-  have_hits_ = true;
 }
 
 bool PersonTracker::legOfPerson(const PersonDetection& d, double t) const {
@@ -467,7 +466,6 @@ void PersonTracker::startTrack(const PersonDetection& d, double t) {
                  TentativeState{t, d.x, d.y, near_static, t, d.x, d.y, 1,
                                 d.legs == 2 ? 1 : 0}};
   std::get<TentativeState>(tr.state).in_view_before =
-      have_hits_ &&
       viewDisc(last_hits_, d.x, d.y, options_.hold_radius) != DiscView::Unseen;
   tr.last_detected_t = t;
   tr.detected_x = d.x;

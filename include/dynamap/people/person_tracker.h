@@ -237,8 +237,9 @@ class PersonTracker {
   bool have_t_ = false;
   double last_t_ = 0;
   ShareAverage free_share_;  // of the scans so far
-  ScanHits last_hits_;       // the scan before this one (TentativeState::in_view_before)
-  bool have_hits_ = false;
+  /// The scan before this one (TentativeState::in_view_before); before the first, no beam:
+  /// every place unseen.
+  ScanHits last_hits_;
   int next_key_ = 1;
   int next_id_ = 1;
 };
