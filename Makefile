@@ -94,10 +94,12 @@ deps:
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
 	fi
 
-$(BUILD_DIR)/CMakeCache.txt:
+# The generated Makefile, not CMakeCache.txt, marks a finished configure: a configure that failed
+# (say, before the packages were installed) leaves a cache behind and is run again.
+$(BUILD_DIR)/Makefile:
 	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE)
 
-configure: deps $(BUILD_DIR)/CMakeCache.txt
+configure: deps $(BUILD_DIR)/Makefile
 
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
