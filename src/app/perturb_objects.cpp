@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 
 #include "cli.h"
@@ -133,15 +134,10 @@ struct Outputs {
   }
 };
 
-void writeRecord(mrpt::serialization::CArchive& ar, const ScanRecord& rec,
-                 const sim::ScanGeometry& g) {
-  const auto stamp = mrpt::Clock::fromDouble(rec.t);
-  mrpt::obs::CObservationOdometry odo;  // the known pose: odometry that does not drift
-  odo.sensorLabel = "ODOMETRY";
-  odo.timestamp = stamp;
-  odo.odometry = rec.pose;
+/// The log's scan with the beams a cylinder shortened (`g`, edited) set to their new ranges.
+mrpt::obs::CObservation2DRangeScan editedScan(const ScanRecord& rec, const sim::ScanGeometry& g) {
   auto scan = *rec.scan;
-  scan.timestamp = stamp;
+  scan.timestamp = mrpt::Clock::fromDouble(rec.t);
   for (std::size_t i = 0; i < g.ranges.size(); ++i) {
     // Only the beams a cylinder shortened change; every other stays as the log has it.
     if (!g.valid[i] || (scan.getScanRangeValidity(i) && g.ranges[i] >= scan.getScanRange(i)))
@@ -149,12 +145,61 @@ void writeRecord(mrpt::serialization::CArchive& ar, const ScanRecord& rec,
     scan.setScanRange(i, g.ranges[i]);
     scan.setScanRangeValidity(i, true);
   }
+  return scan;
+}
+
+void writeRecord(mrpt::serialization::CArchive& ar, const ScanRecord& rec,
+                 const sim::ScanGeometry& g) {
+  const auto stamp = mrpt::Clock::fromDouble(rec.t);
+  mrpt::obs::CObservationOdometry odo;  // the known pose: odometry that does not drift
+  odo.sensorLabel = "ODOMETRY";
+  odo.timestamp = stamp;
+  odo.odometry = rec.pose;
+  const auto scan = editedScan(rec, g);
   mrpt::obs::CObservationRobotPose gt;
   gt.sensorLabel = "GT";
   gt.timestamp = stamp;
   gt.pose.mean = mrpt::poses::CPose3D(rec.pose);
   ar << odo << scan << gt;
 }
+
+/// S as `dynamap map` makes it from the edited scans, with `config` on the log's known poses.
+class MappedEdits : public sim::EditedMap {
+ public:
+  MappedEdits(const std::vector<ScanRecord>& records, MapConfig config)
+      : records_(records), mapper_([&] {
+          config.poses = PoseSource::GroundTruth;
+          return config;
+        }()) {}
+
+  bool heldFree(sim::Vec2 p, double radius) const override {
+    const DynamicGridMap& map = mapper_.map();
+    const double res = map.getResolution(), threshold = map.options().free_threshold;
+    const int x0 = map.x2idx(p.x - radius), x1 = map.x2idx(p.x + radius);
+    const int y0 = map.y2idx(p.y - radius), y1 = map.y2idx(p.y + radius);
+    if (x0 < 0 || y0 < 0 || x1 >= static_cast<int>(map.getSizeX()) ||
+        y1 >= static_cast<int>(map.getSizeY()))
+      return false;  // off the grid: never seen
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const double dx = map.getXMin() + (x + 0.5) * res - p.x;
+        const double dy = map.getYMin() + (y + 0.5) * res - p.y;
+        if (std::hypot(dx, dy) <= radius && !(map.staticOccupancy(x, y) < threshold)) return false;
+      }
+    }
+    return true;
+  }
+
+  void insert(std::size_t index, const sim::ScanGeometry& edited) override {
+    ScanRecord rec = records_[index];
+    rec.scan = std::make_shared<mrpt::obs::CObservation2DRangeScan>(editedScan(rec, edited));
+    mapper_.process(rec);
+  }
+
+ private:
+  const std::vector<ScanRecord>& records_;
+  Mapper mapper_;
+};
 
 /// Edits every scan and writes the rawlog, gt.txt and objects.csv.
 void writeScans(const Outputs& out, const std::vector<ScanRecord>& records,
@@ -169,7 +214,8 @@ void writeScans(const Outputs& out, const std::vector<ScanRecord>& records,
   std::fprintf(objects, "%s\n", csv::kTruthRows);
   for (std::size_t s = 0; s < records.size(); ++s) {
     sim::ScanGeometry& g = geometry[s];
-    const std::vector<int> hits = sim::applyAddedObjects(plan, g, spec, spec.seed * 1000003ULL + s);
+    const std::vector<int> hits =
+        sim::applyAddedObjects(plan, g, spec, sim::addedNoiseStream(spec, s));
     writeRecord(ar, records[s], g);
     const auto& p = records[s].pose;
     std::fprintf(gt, "%.6f %.6f %.6f %.6f\n", records[s].t, p.x(), p.y(), p.phi());
@@ -242,6 +288,16 @@ int runAddObjects(const std::string& input, const std::string& dir, const std::s
     throw InputError(input + ": " + e.what());
   }
   sim::dropUnseenMoves(geometry, spec, plan);
+  // Each drop changes the later scans: what S holds at the later moves' places and how often
+  // they are seen. The pass over S takes its own drops in as it goes; one for too few views
+  // means another pass.
+  for (;;) {
+    MappedEdits map(records, config);
+    sim::dropMovesIntoHeldPlaces(geometry, spec, plan, map);
+    const std::size_t kept = plan.moves.size();
+    sim::dropUnseenMoves(geometry, spec, plan);
+    if (plan.moves.size() == kept) break;
+  }
   prepareOutputDir(dir);
   const Outputs out{dir, name};
   writeScans(out, records, geometry, plan, spec);

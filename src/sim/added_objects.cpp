@@ -317,17 +317,53 @@ void dropUnseenMoves(const std::vector<ScanGeometry>& scans, const AddObjectsSpe
           << "seen in " << seen.total << " scans before the object moves on (" << spec.seen_scans
           << " needed), " << seen.in_window << " of them in the detection window from the first ("
           << spec.window_seen << " needed), with the other cylinders in";
-      plan.dropped.push_back(why.str());
-      plan.moves.erase(plan.moves.begin() + static_cast<long>(m));
+      dropMove(plan, m, why.str());
       dropped = true;
     }
-    // The moves after a dropped one start where the object now stands.
-    for (AddedMove& mv : plan.moves) {
+  }
+  renumberMoves(plan);
+}
+
+void dropMove(AddedPlan& plan, std::size_t m, const std::string& why) {
+  plan.dropped.push_back(why);
+  plan.moves.erase(plan.moves.begin() + static_cast<long>(m));
+  // The moves after a dropped one start where the object now stands.
+  for (AddedMove& mv : plan.moves) {
+    std::size_t k = 0;
+    while (plan.objects[k].id != mv.object_id) ++k;
+    mv.from = addedPositionAt(plan, k, mv.t_start - 1e-9);
+  }
+}
+
+std::uint64_t addedNoiseStream(const AddObjectsSpec& spec, std::size_t index) {
+  return spec.seed * 1000003ULL + index;
+}
+
+void dropMovesIntoHeldPlaces(const std::vector<ScanGeometry>& scans, const AddObjectsSpec& spec,
+                             AddedPlan& plan, EditedMap& map) {
+  std::size_t next = 0;  // the first move not yet asked about
+  for (std::size_t s = 0; s < scans.size(); ++s) {
+    while (next < plan.moves.size() && plan.moves[next].t_start <= scans[s].t) {
+      const AddedMove& mv = plan.moves[next];
       std::size_t k = 0;
       while (plan.objects[k].id != mv.object_id) ++k;
-      mv.from = addedPositionAt(plan, k, mv.t_start - 1e-9);
+      if (map.heldFree(mv.to, plan.objects[k].diameter / 2)) {
+        ++next;
+        continue;
+      }
+      std::ostringstream why;
+      why << "move of object " << mv.object_id << " at t " << mv.t_start << " s: S of the "
+          << "edited scans does not hold its new place free (a cylinder stood there, unseen since)";
+      dropMove(plan, next, why.str());
     }
+    ScanGeometry edited = scans[s];
+    applyAddedObjects(plan, edited, spec, addedNoiseStream(spec, s));
+    map.insert(s, edited);
   }
+  renumberMoves(plan);
+}
+
+void renumberMoves(AddedPlan& plan) {
   for (std::size_t m = 0; m < plan.moves.size(); ++m) plan.moves[m].id = static_cast<int>(m) + 1;
 }
 

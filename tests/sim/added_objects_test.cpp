@@ -32,9 +32,9 @@ TEST(AddObjectsSpec, DefaultsAndKeys) {
   EXPECT_EQ(d.objects, 4);
   EXPECT_EQ(d.moves, 10);
   EXPECT_DOUBLE_EQ(d.glide_s, 0);
-  const AddObjectsSpec s =
-      parseAddObjectsSpec("objects=3,moves=7,seed=9,sizes=0.25-0.5,glide=3,wall=0.2,path=0.6,"
-                          "seen=12,beams=4");
+  const AddObjectsSpec s = parseAddObjectsSpec(
+      "objects=3,moves=7,seed=9,sizes=0.25-0.5,glide=3,wall=0.2,path=0.6,"
+      "seen=12,beams=4");
   EXPECT_EQ(s.objects, 3);
   EXPECT_EQ(s.moves, 7);
   EXPECT_EQ(s.seed, 9u);
@@ -70,9 +70,9 @@ TEST(AddedObjects, BeamsOnADiscAreTheBeamsThatMeetItBeforeTheirReturn) {
   // A disc of radius 0.3 at 3 m straight ahead spans +-asin(0.1) = +-5.74 deg: beams -5..5.
   EXPECT_EQ(beamsOnDisc(fan({0, 0}, 0, 10), {3, 0}, 0.3), 11);
   EXPECT_EQ(beamsOnDisc(fan({0, 0}, kPi / 2, 10), {0, 3}, 0.3), 11);  // facing +y
-  EXPECT_EQ(beamsOnDisc(fan({0, 0}, 0, 2), {3, 0}, 0.3), 0);   // a wall at 2 m hides it
-  EXPECT_EQ(beamsOnDisc(fan({0, 0}, 0, 10), {-3, 0}, 0.3), 0);  // behind the laser
-  EXPECT_EQ(beamsOnDisc(fan({0, 0}, 0, 10), {3, 0}, 0.3, 2.5), 0);  // beyond the counted range
+  EXPECT_EQ(beamsOnDisc(fan({0, 0}, 0, 2), {3, 0}, 0.3), 0);          // a wall at 2 m hides it
+  EXPECT_EQ(beamsOnDisc(fan({0, 0}, 0, 10), {-3, 0}, 0.3), 0);        // behind the laser
+  EXPECT_EQ(beamsOnDisc(fan({0, 0}, 0, 10), {3, 0}, 0.3, 2.5), 0);    // beyond the counted range
 }
 
 TEST(AddedObjects, ReturnsOfTheLogInsideADiscAreCounted) {
@@ -81,8 +81,8 @@ TEST(AddedObjects, ReturnsOfTheLogInsideADiscAreCounted) {
   EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 3.1f), {3, 0}, 0.3), 11);
   EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 3.1f), {3, 0}, 0.05), 0);  // beam 0 ends 0.1 m off
   EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 3.1f), {3.1, 0}, 0.05), 1);
-  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 10), {3, 0}, 0.3), 0);   // they pass through it
-  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 2), {3, 0}, 0.3), 0);    // they end before it
+  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 10), {3, 0}, 0.3), 0);  // they pass through it
+  EXPECT_EQ(ownReturnsInDisc(fan({0, 0}, 0, 2), {3, 0}, 0.3), 0);   // they end before it
   ScanGeometry none = fan({0, 0}, 0, 3.1f);
   none.valid.assign(none.valid.size(), 0);  // no return at all
   EXPECT_EQ(ownReturnsInDisc(none, {3, 0}, 0.3), 0);
@@ -183,14 +183,14 @@ TEST(AddedObjects, ABeamWithoutAReturnSeesACylinderOnlyAlongThePathTheMapHoldsFr
   // The room, but not free from x = 4.0 on: a surface there that the laser does not return
   // from, and what lies behind it unknown.
   const FreeSpace f = roomFree({}, 0, 4.0);
-  EXPECT_NEAR(f.freeRun({0, 0}, 0, 30), 4.0, 0.05 + 1e-9);  // the wall's near edge
+  EXPECT_NEAR(f.freeRun({0, 0}, 0, 30), 4.0, 0.05 + 1e-9);        // the wall's near edge
   EXPECT_NEAR(f.freeRun({0, 0}, kPi / 2, 30), 7.9, 0.05 + 1e-9);  // the room's wall
   EXPECT_NEAR(f.freeRun({0, 0}, kPi / 2, 2.5), 2.5, 1e-9);        // capped
   EXPECT_EQ(f.freeRun({5, 0}, kPi, 30), 0);                       // from a cell not free
 
   ScanGeometry g = fan({0, 0}, 0, 30);  // every beam at max range: no return
-  g.valid[10] = 0;                       // and one invalid
-  g.ranges[20] = 3.0f;                   // one return of its own, kept as it is
+  g.valid[10] = 0;                      // and one invalid
+  g.ranges[20] = 3.0f;                  // one return of its own, kept as it is
   limitBeamsWithoutReturn(g, f);
   EXPECT_NEAR(g.ranges[90], 4.0, 0.05 + 1e-6);  // straight ahead: up to the wall
   EXPECT_EQ(g.valid[90], 0);
@@ -262,6 +262,72 @@ TEST(AddedObjects, AMoveWhoseNewPlaceIsNotSeenIsDropped) {
   EXPECT_DOUBLE_EQ(plan.moves[0].to.x, 5);
   EXPECT_DOUBLE_EQ(plan.moves[0].from.x, -6);  // the move left starts where the object stood
   EXPECT_EQ(plan.moves[0].id, 1);
+}
+
+/// S as a mapper that never sees a place again would hold it: wherever an edited beam ended on a
+/// cylinder (shorter than the log's own return), occupied for good. `forgets`: holds nothing.
+struct CylinderEnds : EditedMap {
+  struct End {
+    Vec2 at;
+    double t;
+  };
+  const std::vector<ScanGeometry>& log;
+  bool forgets = false;
+  std::vector<End> ends;
+  std::size_t inserted = 0;
+  explicit CylinderEnds(const std::vector<ScanGeometry>& l) : log(l) {}
+  bool heldFree(Vec2 c, double radius) const override {
+    for (const End& e : ends) {
+      if (!forgets && std::hypot(e.at.x - c.x, e.at.y - c.y) <= radius + 0.05) return false;
+    }
+    return true;
+  }
+  void insert(std::size_t index, const ScanGeometry& g) override {
+    ASSERT_EQ(index, inserted++);
+    for (std::size_t i = 0; i < g.ranges.size(); ++i) {
+      if (g.ranges[i] >= log[index].ranges[i] - 1e-3) continue;
+      const double b = g.sensor_phi + g.first_angle + static_cast<double>(i) * g.step;
+      ends.push_back(
+          {{g.sensor.x + g.ranges[i] * std::cos(b), g.sensor.y + g.ranges[i] * std::sin(b)}, g.t});
+    }
+  }
+};
+
+TEST(AddedObjects, AMoveOntoAPlaceSHoldsFromAnotherCylinderIsDropped) {
+  const auto scans = roomLog(60);
+  AddObjectsSpec spec;
+  spec.range_noise_m = 0;
+  AddedPlan plan;
+  // Object 1 stands at (0, 5), seen from the start, and leaves at 10 s; at 20 s object 2 comes
+  // to where it stood, which this S still holds; at 40 s object 2 moves on.
+  plan.objects = {{1, 0.4, {0, 5}}, {2, 0.4, {5, -5}}};
+  plan.moves = {{1, 1, 10, 10, {0, 5}, {-5, -5}},
+                {2, 2, 20, 20, {5, -5}, {0, 5.1}},
+                {3, 2, 40, 40, {0, 5.1}, {-5, 0}}};
+  AddedPlan kept = plan;
+  CylinderEnds held(scans);
+  dropMovesIntoHeldPlaces(scans, spec, plan, held);
+  EXPECT_EQ(held.inserted, scans.size());
+  ASSERT_EQ(plan.moves.size(), 2u);
+  ASSERT_EQ(plan.dropped.size(), 1u);
+  EXPECT_NE(plan.dropped[0].find("object 2 at t 20 s"), std::string::npos) << plan.dropped[0];
+  EXPECT_EQ(plan.moves[1].id, 2);
+  EXPECT_DOUBLE_EQ(plan.moves[1].from.x, 5);  // object 2 stayed where it stood
+  EXPECT_DOUBLE_EQ(plan.moves[1].from.y, -5);
+  // The scans after the drop were edited without it: no cylinder at (0, 5.1) from 20 s on.
+  std::size_t before = 0;
+  for (const auto& e : held.ends) {
+    const bool there = std::hypot(e.at.x, e.at.y - 5.05) < 0.3;
+    EXPECT_FALSE(there && e.t >= 20) << e.t;
+    before += there && e.t < 10;
+  }
+  EXPECT_GT(before, 0u);  // object 1 was seen there
+  // A map that holds nothing keeps every move.
+  CylinderEnds forgets(scans);
+  forgets.forgets = true;
+  dropMovesIntoHeldPlaces(scans, spec, kept, forgets);
+  EXPECT_EQ(kept.moves.size(), 3u);
+  EXPECT_TRUE(kept.dropped.empty());
 }
 
 }  // namespace

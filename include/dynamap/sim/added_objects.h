@@ -18,11 +18,11 @@ namespace dynamap::sim {
 
 /// What to add: `text` of parseAddObjectsSpec, e.g. "objects=4,moves=10,seed=2,glide=3".
 struct AddObjectsSpec {
-  int objects = 4;                 ///< cylinders, diameters spread evenly over [min, max]
-  int moves = 10;                  ///< moves planned (some may be dropped, each with a reason)
+  int objects = 4;  ///< cylinders, diameters spread evenly over [min, max]
+  int moves = 10;   ///< moves planned (some may be dropped, each with a reason)
   std::uint64_t seed = 1;
   double min_diameter = 0.2, max_diameter = 0.6;  ///< [m]
-  double glide_s = 0;             ///< 0: jumps made unseen; > 0: glides of this length in view
+  double glide_s = 0;              ///< 0: jumps made unseen; > 0: glides of this length in view
   double wall_clearance_m = 0.15;  ///< from the cylinder's edge to anything S does not hold free
   double path_clearance_m = 0.5;   ///< from the cylinder's edge to every pose of the robot
   int seen_scans = 10;             ///< a move counts when its new place is seen in this many scans
@@ -30,14 +30,15 @@ struct AddObjectsSpec {
   /// ... and, from the first scan that sees it so, in this many within eval's detection window
   /// (10 s or 50 scans, whichever is longer): a glance is no chance to find it (D needs 5 hits).
   int window_seen = 5;
-  double range_noise_m = 0.01;     ///< sd of the noise on a shortened beam
+  double range_noise_m = 0.01;  ///< sd of the noise on a shortened beam
   /// Beams on a cylinder farther than this [m] do not count as seeing it (the mapper's
   /// max_distance_insertion: it never uses them); not a SPEC key, the command sets it.
   double counted_range_m = 1e9;
 };
 
 /// Parses "key=value,key=value": objects, moves, seed, sizes (MIN-MAX in m), glide (s), wall (m),
-/// path (m), seen (scans), beams, window (scans). Throws std::invalid_argument naming the key and the value.
+/// path (m), seen (scans), beams, window (scans). Throws std::invalid_argument naming the key and
+/// the value.
 AddObjectsSpec parseAddObjectsSpec(const std::string& text);
 
 /// One scan of the log, as the planner and the editor need it.
@@ -54,8 +55,9 @@ struct ScanGeometry {
   std::vector<std::uint8_t> valid;  ///< the scan's own validity flags
 };
 
-/// Where a cylinder may stand, as S held it at time `t`: per cell of S, the distance from its centre to the nearest cell S
-/// does not hold free (0 for such a cell) and to the nearest pose of the robot, both capped.
+/// Where a cylinder may stand, as S held it at time `t`: per cell of S, the distance from its
+/// centre to the nearest cell S does not hold free (0 for such a cell) and to the nearest pose of
+/// the robot, both capped.
 struct FreeSpace {
   double t = 0;  ///< [s] since the log's first scan: S as of this time
   double x_min = 0, y_min = 0, resolution = 0.05;
@@ -86,8 +88,8 @@ struct AddedMove {
 
 struct AddedPlan {
   std::vector<AddedObject> objects;
-  std::vector<AddedMove> moves;          ///< by t_start; ids 1.. in that order
-  std::vector<std::string> dropped;      ///< one line per move planned and dropped: why
+  std::vector<AddedMove> moves;      ///< by t_start; ids 1.. in that order
+  std::vector<std::string> dropped;  ///< one line per move planned and dropped: why
 };
 
 /// When planAddedObjects wants S: the start of each move's time slot (the first 15 % of the log
@@ -96,11 +98,11 @@ std::vector<double> addedSlotTimes(double t_last, const AddObjectsSpec& spec);
 
 /// Plans the cylinders and their moves over `scans` (by time, t from 0). `free` holds S at each
 /// time of addedSlotTimes: a move of slot k goes where S held free at the slot's start, a
-/// cylinder starts where S holds free at the end (the log without it). Each move's new place is seen in
-/// spec.seen_scans scans with spec.seen_beams beams before the object's next move; a jump is seen
-/// neither at its old nor at its new place within a second of it; a glide is in view for at least
-/// half of its scans; no return of the log's own falls inside the new place (clearOfTheLog) from
-/// the move to 10 s after it is seen enough. A move no place or time satisfies is dropped with
+/// cylinder starts where S holds free at the end (the log without it). Each move's new place is
+/// seen in spec.seen_scans scans with spec.seen_beams beams before the object's next move; a jump
+/// is seen neither at its old nor at its new place within a second of it; a glide is in view for at
+/// least half of its scans; no return of the log's own falls inside the new place (clearOfTheLog)
+/// from the move to 10 s after it is seen enough. A move no place or time satisfies is dropped with
 /// its reason.
 AddedPlan planAddedObjects(const std::vector<ScanGeometry>& scans,
                            const std::vector<FreeSpace>& free, const AddObjectsSpec& spec);
@@ -161,6 +163,37 @@ Sightings sightings(const std::vector<ScanGeometry>& scans, double t0, double t1
 /// renumbers the moves. Each drop is added to plan.dropped.
 void dropUnseenMoves(const std::vector<ScanGeometry>& scans, const AddObjectsSpec& spec,
                      AddedPlan& plan);
+
+/// The seed of scan `index`'s range noise (applyAddedObjects): the same in every pass over the
+/// edited scans, so that each pass edits them alike.
+std::uint64_t addedNoiseStream(const AddObjectsSpec& spec, std::size_t index);
+
+/// S of a map made from the edited scans, one by one (the command maps them with dynamap's own
+/// mapper on the log's known poses).
+class EditedMap {
+ public:
+  virtual ~EditedMap() = default;
+  /// Whether S holds free every cell whose centre lies within `radius` of `centre`, after the
+  /// scans inserted so far.
+  virtual bool heldFree(Vec2 centre, double radius) const = 0;
+  /// Maps scan `index` of the log as the plan edits it (`edited`).
+  virtual void insert(std::size_t index, const ScanGeometry& edited) = 0;
+};
+
+/// Maps `scans` (by time), each edited by the plan, into `map`, and before the first scan at
+/// or after each move's start asks whether S holds the move's new place (the cylinder's disc)
+/// free, as the planner asked of the unedited log's S: where another cylinder stood, unseen since
+/// it left, S still holds it, and no mapper of changes can tell the new one from it. Such a move
+/// is dropped (the object stays; plan.dropped says why) and the pass goes on with the plan so
+/// changed: a drop edits only later scans. Renumbers the moves.
+void dropMovesIntoHeldPlaces(const std::vector<ScanGeometry>& scans, const AddObjectsSpec& spec,
+                             AddedPlan& plan, EditedMap& map);
+
+/// Drops move `m` (index into plan.moves) with its reason: the object stays where it stood, so
+/// its later moves start from there. The ids are left as they were (renumberMoves).
+void dropMove(AddedPlan& plan, std::size_t m, const std::string& why);
+/// Numbers plan.moves 1.. in their order.
+void renumberMoves(AddedPlan& plan);
 
 template <typename Beams>
 Sightings sightings(const std::vector<ScanGeometry>& scans, double t0, double t1, int seen_beams,
