@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "pose_constraint.h"
 
@@ -26,24 +27,64 @@ double inlierDistance(double range) {
   return 0.05 + 0.005 * range;
 }
 
+/// What pair() needs of the earlier scan beyond its returns, worked out once per match instead
+/// of once per point and iteration (a match pairs each point up to 30 times).
+struct Beams {
+  explicit Beams(const ScanReturns& returns)
+      : e(returns),
+        // The values CPose2D::inverseComposePoint reads, so the bearings come out the same.
+        sx(returns.sensor.x()),
+        sy(returns.sensor.y()),
+        cos(returns.sensor.phi_cos()),
+        sin(returns.sensor.phi_sin()),
+        size(static_cast<int>(returns.point.size())),
+        reach(std::max(3, static_cast<int>(std::ceil(kSearchRad / std::abs(returns.step))))),
+        nan_if_none(returns.point) {
+    // A beam without a return lies nowhere: its distance to every point is NaN, which is never
+    // the nearest, so the search needs no branch on `valid` (mispredicted at every gap).
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (int i = 0; i < size; ++i) {
+      if (!returns.valid[i]) nan_if_none[i] = {nan, nan};
+    }
+  }
+  const ScanReturns& e;
+  double sx, sy, cos, sin;
+  int size, reach;  // beams, and how many a point looks at on either side of its bearing's
+  std::vector<Eigen::Vector2d> nan_if_none;  // e.point, NaN where a beam has no return
+};
+
+/// std::lround(at) for |at| < 2^31, without the library call: at minus its truncation is exact.
+int roundHalfAway(double at) {
+  int r = static_cast<int>(at);
+  const double f = at - r;
+  if (f >= 0.5) ++r;
+  if (f <= -0.5) --r;
+  return r;
+}
+
 /// The segment a point `g` (in the earlier scan's robot frame) lies on: the nearest return of
 /// the earlier scan within kSearchRad of g's bearing (no farther than `gate`), and the
 /// neighbouring beam's return on the same surface nearer to g. False when there is none.
-bool pair(const ScanReturns& e, const Eigen::Vector2d& g, double gate, Eigen::Vector2d& q,
+bool pair(const Beams& b, const Eigen::Vector2d& g, double gate, Eigen::Vector2d& q,
           Eigen::Vector2d& n) {
-  const mrpt::math::TPoint2D s = e.sensor.inverseComposePoint(mrpt::math::TPoint2D(g.x(), g.y()));
-  const double bearing = std::atan2(s.y, s.x);
+  const ScanReturns& e = b.e;
+  // g in the sensor's frame: CPose2D::inverseComposePoint's arithmetic, inline.
+  const double ax = g.x() - b.sx, ay = g.y() - b.sy;
+  const double bearing = std::atan2(-ax * b.sin + ay * b.cos, ax * b.cos + ay * b.sin);
   const double at = (e.dir * bearing - e.first) / e.step;
-  const int size = static_cast<int>(e.point.size());
+  const int size = b.size;
   if (!std::isfinite(at) || at < -1 || at > size) return false;
-  const int reach = std::max(3, static_cast<int>(std::ceil(kSearchRad / std::abs(e.step))));
-  const int mid = static_cast<int>(std::lround(at));
+  const int reach = b.reach;
+  const int mid = roundHalfAway(at);
   int best = -1;
   double best_d2 = gate * gate;
   for (int j = std::max(0, mid - reach); j <= std::min(size - 1, mid + reach); ++j) {
-    if (!e.valid[j]) continue;
-    const double d2 = (e.point[j] - g).squaredNorm();
-    if (d2 <= best_d2) best_d2 = d2, best = j;
+    // Selects instead of a branch: where along the window the nearest return lies follows no
+    // pattern. A NaN distance (no return) is never <= best_d2.
+    const double d2 = (b.nan_if_none[j] - g).squaredNorm();
+    const bool nearer = d2 <= best_d2;
+    best_d2 = nearer ? d2 : best_d2;
+    best = nearer ? j : best;
   }
   if (best < 0) return false;
   // One surface: the neighbour no farther than three beam spacings at that range (a wall seen
@@ -53,8 +94,11 @@ bool pair(const ScanReturns& e, const Eigen::Vector2d& g, double gate, Eigen::Ve
   for (const int k : {best - 1, best + 1}) {
     if (k < 0 || k >= size || !e.valid[k]) continue;
     const Eigen::Vector2d t = e.point[k] - e.point[best];
-    if (t.norm() > max_gap || t.norm() < 1e-6) continue;
-    const Eigen::Vector2d nk = Eigen::Vector2d(-t.y(), t.x()).normalized();
+    const double length = t.norm();
+    if (length > max_gap || length < 1e-6) continue;
+    // What normalized() gives: the same sum of squares (in the other order, which IEEE addition
+    // does not mind), its root, and a division of each element by it.
+    const Eigen::Vector2d nk(-t.y() / length, t.x() / length);
     const double d = std::abs(nk.dot(g - e.point[best]));
     if (best_seg < 0 || d < best_seg) best_seg = d, n = nk;
   }
@@ -66,6 +110,7 @@ bool pair(const ScanReturns& e, const Eigen::Vector2d& g, double gate, Eigen::Ve
 mrpt::poses::CPose2D align(const ScanReturns& earlier, const ScanReturns& later,
                            const mrpt::poses::CPose2D& guess, int max_iterations) {
   mrpt::poses::CPose2D pose = guess;
+  const Beams beams(earlier);
   Eigen::Vector2d q, n;
   for (int it = 0; it < max_iterations; ++it) {
     Eigen::Matrix3d h = Eigen::Matrix3d::Identity() * 1e-6;
@@ -76,7 +121,7 @@ mrpt::poses::CPose2D align(const ScanReturns& earlier, const ScanReturns& later,
       const Eigen::Vector2d& p = later.point[i];
       const double rx = c * p.x() - s * p.y(), ry = s * p.x() + c * p.y();
       const Eigen::Vector2d g(pose.x() + rx, pose.y() + ry);
-      if (!pair(earlier, g, pairingGate(later.range[i], it < kCoarseIterations), q, n)) continue;
+      if (!pair(beams, g, pairingGate(later.range[i], it < kCoarseIterations), q, n)) continue;
       const double e = n.dot(g - q), k = inlierDistance(later.range[i]);
       const double w = 1.0 / (1.0 + (e * e) / (k * k));
       const Eigen::Vector3d j = poseJacobian(n, rx, ry);
@@ -131,6 +176,7 @@ ScanToScanResult matchScans(const ScanReturns& earlier, const ScanReturns& later
   }
   // Inliers at the matched pose, and what they pin down.
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  const Beams beams(earlier);
   Eigen::Vector2d q, n;
   for (std::size_t i = 0; i < later.point.size(); ++i) {
     if (!later.valid[i]) continue;
@@ -139,7 +185,7 @@ ScanToScanResult matchScans(const ScanReturns& earlier, const ScanReturns& later
           matched + mrpt::math::TPoint2D(later.point[i].x(), later.point[i].y());
       return Eigen::Vector2d(t.x, t.y);
     }();
-    if (!pair(earlier, g, pairingGate(later.range[i], false), q, n)) continue;
+    if (!pair(beams, g, pairingGate(later.range[i], false), q, n)) continue;
     ++r.paired;
     if (std::abs(n.dot(g - q)) > inlierDistance(later.range[i])) continue;
     ++r.inliers;
