@@ -21,6 +21,13 @@ struct ScoreField {
   bool empty() const { return w <= 0 || h <= 0; }
 };
 
+/// d = std::min(d, v), written as a branch: along a row each cell waits for the one before it,
+/// and std::min's select makes the CPU wait too, while a branch (rarely taken: mostly far from
+/// walls the neighbour's value plus a step is no lower) lets it run ahead. The same value.
+inline void lowerTo(float& d, float v) {
+  if (v < d) d = v;
+}
+
 /// Two-pass chamfer distance (1 / 1.4 cells) in place, over a w x h window whose values are at
 /// most `cap`. The passes run over a copy framed by a border of `cap`: a border cell's value plus
 /// a step exceeds every value, so it never wins, exactly as a neighbour outside the window is
@@ -40,7 +47,7 @@ void chamfer(std::vector<float>& dist, int w, int h, float cap) {
     for (int x = 1; x <= w; ++x) {
       d[x] = std::min(std::min(d[x], up[x] + 1.0f), std::min(up[x - 1], up[x + 1]) + 1.4f);
     }
-    for (int x = 1; x <= w; ++x) d[x] = std::min(d[x], d[x - 1] + 1.0f);
+    for (int x = 1; x <= w; ++x) lowerTo(d[x], d[x - 1] + 1.0f);
   }
   for (int y = h; y >= 1; --y) {
     float* d = pad.data() + static_cast<std::ptrdiff_t>(y) * pw;
@@ -48,7 +55,7 @@ void chamfer(std::vector<float>& dist, int w, int h, float cap) {
     for (int x = w; x >= 1; --x) {
       d[x] = std::min(std::min(d[x], down[x] + 1.0f), std::min(down[x + 1], down[x - 1]) + 1.4f);
     }
-    for (int x = w; x >= 1; --x) d[x] = std::min(d[x], d[x + 1] + 1.0f);
+    for (int x = w; x >= 1; --x) lowerTo(d[x], d[x + 1] + 1.0f);
   }
   for (int y = 0; y < h; ++y) {
     std::copy_n(pad.begin() + static_cast<std::ptrdiff_t>(y + 1) * pw + 1, w,
