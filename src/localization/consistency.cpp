@@ -50,6 +50,25 @@ std::size_t strideFor(std::size_t n, const ConsistencyOptions& o) {
   return std::max(o.point_stride, (n + kMaxScanPoints - 1) / kMaxScanPoints);
 }
 
+/// The squared distance from (x, y) to the nearest of `points` of a scan farther than `exclude`
+/// in index from `scan` (infinity if none). Two minima side by side, then their minimum: one
+/// chain of std::min made each point wait for the one before, and a minimum does not depend on
+/// the order it is taken in (a point skipped counts as infinity, which never wins).
+double cellNearest2(const std::vector<IndexedPoint>& points, double x, double y, std::size_t scan,
+                    std::size_t exclude) {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  const auto d2 = [&](const IndexedPoint& q) {
+    const std::size_t gap = q.scan > scan ? q.scan - scan : scan - q.scan;
+    return gap <= exclude ? kNone : (q.x - x) * (q.x - x) + (q.y - y) * (q.y - y);
+  };
+  double b0 = kNone, b1 = kNone;
+  std::size_t k = 0;
+  for (; k + 1 < points.size(); k += 2)
+    b0 = std::min(b0, d2(points[k])), b1 = std::min(b1, d2(points[k + 1]));
+  if (k < points.size()) b0 = std::min(b0, d2(points[k]));
+  return std::min(b0, b1);
+}
+
 /// The used points (every point_stride-th) of every scan, hashed by cells of cap_m: the nearest
 /// point within cap_m of a query lies in the 3 x 3 cells around it.
 class PointHash {
@@ -74,11 +93,7 @@ class PointHash {
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         const auto it = cells_.find(key(cx + dx, cy + dy));
         if (it == cells_.end()) continue;
-        for (const IndexedPoint& q : it->second.points) {
-          const std::size_t gap = q.scan > scan ? q.scan - scan : scan - q.scan;
-          if (gap <= exclude) continue;
-          best = std::min(best, (q.x - x) * (q.x - x) + (q.y - y) * (q.y - y));
-        }
+        best = std::min(best, cellNearest2(it->second.points, x, y, scan, exclude));
       }
     }
     return best;
@@ -100,6 +115,26 @@ class PointHash {
   std::unordered_map<std::uint64_t, Cell> cells_;
 };
 
+/// The squared distance from p to the nearest of every stride-th point of `pts`, at most cap2.
+/// Four minima side by side, then their minimum: one chain of std::min made each point wait for
+/// the one before, and a minimum does not depend on the order it is taken in (a NaN distance is
+/// skipped either way), so the result is the same.
+double scanNearest2(const std::vector<MapPoint>& pts, std::size_t stride, const MapPoint& p,
+                    double cap2) {
+  const auto d2 = [&](std::size_t m) {
+    const double dx = pts[m].x - p.x, dy = pts[m].y - p.y;
+    return dx * dx + dy * dy;
+  };
+  double b0 = cap2, b1 = cap2, b2 = cap2, b3 = cap2;
+  std::size_t m = 0;
+  for (; m + 3 * stride < pts.size(); m += 4 * stride) {
+    b0 = std::min(b0, d2(m)), b1 = std::min(b1, d2(m + stride));
+    b2 = std::min(b2, d2(m + 2 * stride)), b3 = std::min(b3, d2(m + 3 * stride));
+  }
+  for (; m < pts.size(); m += stride) b0 = std::min(b0, d2(m));
+  return std::min(std::min(b0, b1), std::min(b2, b3));
+}
+
 /// Mean capped distance from scan i's used points to scan i-1's, over every scan but the first.
 void localFigure(const std::vector<std::vector<MapPoint>>& scans, const ConsistencyOptions& o,
                  Consistency& c) {
@@ -111,12 +146,7 @@ void localFigure(const std::vector<std::vector<MapPoint>>& scans, const Consiste
     const std::size_t before_stride = strideFor(before.size(), o);
     for (std::size_t k = 0; k < scans[i].size(); k += stride) {
       const MapPoint& p = scans[i][k];
-      double best = cap2;
-      for (std::size_t m = 0; m < before.size(); m += before_stride) {
-        const double dx = before[m].x - p.x, dy = before[m].y - p.y;
-        best = std::min(best, dx * dx + dy * dy);
-      }
-      sum += std::sqrt(best);
+      sum += std::sqrt(scanNearest2(before, before_stride, p, cap2));
       ++c.local_points;
     }
   }
