@@ -175,16 +175,23 @@ class MappedEdits : public sim::EditedMap {
   bool heldFree(sim::Vec2 p, double radius) const override {
     const DynamicGridMap& map = mapper_.map();
     const double res = map.getResolution(), threshold = map.options().free_threshold;
-    const int x0 = map.x2idx(p.x - radius), x1 = map.x2idx(p.x + radius);
-    const int y0 = map.y2idx(p.y - radius), y1 = map.y2idx(p.y + radius);
-    if (x0 < 0 || y0 < 0 || x1 >= static_cast<int>(map.getSizeX()) ||
-        y1 >= static_cast<int>(map.getSizeY()))
+    // Cell indices by floor, not x2idx's truncation: a disc just below the grid's lower edge
+    // must come out off the grid, not on its first cell.
+    const auto cell = [res](double v, double min) {
+      return static_cast<long>(std::floor((v - min) / res));
+    };
+    const long x0 = cell(p.x - radius, map.getXMin()), x1 = cell(p.x + radius, map.getXMin());
+    const long y0 = cell(p.y - radius, map.getYMin()), y1 = cell(p.y + radius, map.getYMin());
+    if (x0 < 0 || y0 < 0 || x1 >= static_cast<long>(map.getSizeX()) ||
+        y1 >= static_cast<long>(map.getSizeY()))
       return false;  // off the grid: never seen
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const double dx = map.getXMin() + (x + 0.5) * res - p.x;
-        const double dy = map.getYMin() + (y + 0.5) * res - p.y;
-        if (std::hypot(dx, dy) <= radius && !(map.staticOccupancy(x, y) < threshold)) return false;
+    for (long y = y0; y <= y1; ++y) {
+      for (long x = x0; x <= x1; ++x) {
+        const double dx = map.getXMin() + (static_cast<double>(x) + 0.5) * res - p.x;
+        const double dy = map.getYMin() + (static_cast<double>(y) + 0.5) * res - p.y;
+        if (std::hypot(dx, dy) <= radius &&
+            !(map.staticOccupancy(static_cast<int>(x), static_cast<int>(y)) < threshold))
+          return false;
       }
     }
     return true;

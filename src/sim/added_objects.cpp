@@ -353,7 +353,8 @@ void dropMovesIntoHeldPlaces(const std::vector<ScanGeometry>& scans, const AddOb
       }
       std::ostringstream why;
       why << "move of object " << mv.object_id << " at t " << mv.t_start << " s: S of the "
-          << "edited scans does not hold its new place free (a cylinder stood there, unseen since)";
+          << "edited scans does not hold its new place free (occupied or unknown: a cylinder "
+          << "stood there or in front of it, unseen since)";
       dropMove(plan, next, why.str());
     }
     ScanGeometry edited = scans[s];

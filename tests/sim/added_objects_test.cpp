@@ -274,6 +274,7 @@ struct CylinderEnds : EditedMap {
   const std::vector<ScanGeometry>& log;
   bool forgets = false;
   std::vector<End> ends;
+  std::vector<std::vector<float>> ranges;  // of every scan inserted, as edited
   std::size_t inserted = 0;
   explicit CylinderEnds(const std::vector<ScanGeometry>& l) : log(l) {}
   bool heldFree(Vec2 c, double radius) const override {
@@ -284,6 +285,7 @@ struct CylinderEnds : EditedMap {
   }
   void insert(std::size_t index, const ScanGeometry& g) override {
     ASSERT_EQ(index, inserted++);
+    ranges.push_back(g.ranges);
     for (std::size_t i = 0; i < g.ranges.size(); ++i) {
       if (g.ranges[i] >= log[index].ranges[i] - 1e-3) continue;
       const double b = g.sensor_phi + g.first_angle + static_cast<double>(i) * g.step;
@@ -295,8 +297,7 @@ struct CylinderEnds : EditedMap {
 
 TEST(AddedObjects, AMoveOntoAPlaceSHoldsFromAnotherCylinderIsDropped) {
   const auto scans = roomLog(60);
-  AddObjectsSpec spec;
-  spec.range_noise_m = 0;
+  const AddObjectsSpec spec;
   AddedPlan plan;
   // Object 1 stands at (0, 5), seen from the start, and leaves at 10 s; at 20 s object 2 comes
   // to where it stood, which this S still holds; at 40 s object 2 moves on.
@@ -322,6 +323,12 @@ TEST(AddedObjects, AMoveOntoAPlaceSHoldsFromAnotherCylinderIsDropped) {
     before += there && e.t < 10;
   }
   EXPECT_GT(before, 0u);  // object 1 was seen there
+  // Every scan was mapped as the final plan edits it, noise and all: as perturb writes it.
+  for (std::size_t s = 0; s < scans.size(); ++s) {
+    ScanGeometry g = scans[s];
+    applyAddedObjects(plan, g, spec, addedNoiseStream(spec, s));
+    ASSERT_EQ(g.ranges, held.ranges[s]) << "scan " << s;
+  }
   // A map that holds nothing keeps every move.
   CylinderEnds forgets(scans);
   forgets.forgets = true;

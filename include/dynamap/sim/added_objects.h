@@ -181,9 +181,10 @@ class EditedMap {
 };
 
 /// Maps `scans` (by time), each edited by the plan, into `map`, and before the first scan at
-/// or after each move's start asks whether S holds the move's new place (the cylinder's disc)
-/// free, as the planner asked of the unedited log's S: where another cylinder stood, unseen since
-/// it left, S still holds it, and no mapper of changes can tell the new one from it. Such a move
+/// or after each move's start asks whether S holds the move's new place (the cylinder's disc
+/// itself, not the planner's `wall` margin around it) free, as the planner asked of the unedited
+/// log's S: where another cylinder stood, unseen since it left (or in its shadow), S still holds
+/// the place, and no mapper of changes can tell the new one from what was there. Such a move
 /// is dropped (the object stays; plan.dropped says why) and the pass goes on with the plan so
 /// changed: a drop edits only later scans. Renumbers the moves.
 void dropMovesIntoHeldPlaces(const std::vector<ScanGeometry>& scans, const AddObjectsSpec& spec,
