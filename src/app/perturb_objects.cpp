@@ -50,11 +50,10 @@ sim::FreeSpace freeSpaceOf(const DynamicGridMap& map, const std::vector<sim::Vec
   free.resolution = map.getResolution();
   free.size_x = static_cast<int>(map.getSizeX());
   free.size_y = static_cast<int>(map.getSizeY());
-  const double threshold = map.options().free_threshold;
   std::vector<std::uint8_t> flags(static_cast<std::size_t>(free.size_x) * free.size_y);
   for (int y = 0; y < free.size_y; ++y) {
     for (int x = 0; x < free.size_x; ++x) {
-      flags[static_cast<std::size_t>(y) * free.size_x + x] = map.staticOccupancy(x, y) < threshold;
+      flags[static_cast<std::size_t>(y) * free.size_x + x] = map.isStaticFree(x, y);
     }
   }
   free.build(flags, robot, kClearanceCap);
@@ -174,24 +173,20 @@ class MappedEdits : public sim::EditedMap {
 
   bool heldFree(sim::Vec2 p, double radius) const override {
     const DynamicGridMap& map = mapper_.map();
-    const double res = map.getResolution(), threshold = map.options().free_threshold;
+    const double res = map.getResolution();
     // Cell indices by floor, not x2idx's truncation: a disc just below the grid's lower edge
-    // must come out off the grid, not on its first cell.
+    // must come out off the grid (never seen: isStaticFree is false there), not on its first
+    // cell. The grid is at most max_map_size_m wide: its indices fit in an int.
     const auto cell = [res](double v, double min) {
-      return static_cast<long>(std::floor((v - min) / res));
+      return static_cast<int>(std::floor((v - min) / res));
     };
-    const long x0 = cell(p.x - radius, map.getXMin()), x1 = cell(p.x + radius, map.getXMin());
-    const long y0 = cell(p.y - radius, map.getYMin()), y1 = cell(p.y + radius, map.getYMin());
-    if (x0 < 0 || y0 < 0 || x1 >= static_cast<long>(map.getSizeX()) ||
-        y1 >= static_cast<long>(map.getSizeY()))
-      return false;  // off the grid: never seen
-    for (long y = y0; y <= y1; ++y) {
-      for (long x = x0; x <= x1; ++x) {
-        const double dx = map.getXMin() + (static_cast<double>(x) + 0.5) * res - p.x;
-        const double dy = map.getYMin() + (static_cast<double>(y) + 0.5) * res - p.y;
-        if (std::hypot(dx, dy) <= radius &&
-            !(map.staticOccupancy(static_cast<int>(x), static_cast<int>(y)) < threshold))
-          return false;
+    const int x0 = cell(p.x - radius, map.getXMin()), x1 = cell(p.x + radius, map.getXMin());
+    const int y0 = cell(p.y - radius, map.getYMin()), y1 = cell(p.y + radius, map.getYMin());
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const double dx = map.getXMin() + (x + 0.5) * res - p.x;
+        const double dy = map.getYMin() + (y + 0.5) * res - p.y;
+        if (std::hypot(dx, dy) <= radius && !map.isStaticFree(x, y)) return false;
       }
     }
     return true;

@@ -140,6 +140,13 @@ void owners(const AddedPlan& plan, const ScanGeometry& scan, std::vector<int>& o
   }
 }
 
+/// The index in plan.objects of the object with id `id` (every move's object is there).
+std::size_t objectIndexOf(const AddedPlan& plan, int id) {
+  std::size_t k = 0;
+  while (plan.objects[k].id != id) ++k;
+  return k;
+}
+
 }  // namespace
 
 AddObjectsSpec parseAddObjectsSpec(const std::string& text) {
@@ -307,8 +314,7 @@ void dropUnseenMoves(const std::vector<ScanGeometry>& scans, const AddObjectsSpe
           break;
         }
       }
-      std::size_t k = 0;
-      while (plan.objects[k].id != mv.object_id) ++k;
+      const std::size_t k = objectIndexOf(plan, mv.object_id);
       const Sightings seen = sightings(scans, mv.t_end, next, spec.seen_beams,
                                        [&](std::size_t s) { return hits[s][k]; });
       if (seen.enough(spec)) continue;
@@ -329,9 +335,7 @@ void dropMove(AddedPlan& plan, std::size_t m, const std::string& why) {
   plan.moves.erase(plan.moves.begin() + static_cast<long>(m));
   // The moves after a dropped one start where the object now stands.
   for (AddedMove& mv : plan.moves) {
-    std::size_t k = 0;
-    while (plan.objects[k].id != mv.object_id) ++k;
-    mv.from = addedPositionAt(plan, k, mv.t_start - 1e-9);
+    mv.from = addedPositionAt(plan, objectIndexOf(plan, mv.object_id), mv.t_start - 1e-9);
   }
 }
 
@@ -345,9 +349,8 @@ void dropMovesIntoHeldPlaces(const std::vector<ScanGeometry>& scans, const AddOb
   for (std::size_t s = 0; s < scans.size(); ++s) {
     while (next < plan.moves.size() && plan.moves[next].t_start <= scans[s].t) {
       const AddedMove& mv = plan.moves[next];
-      std::size_t k = 0;
-      while (plan.objects[k].id != mv.object_id) ++k;
-      if (map.heldFree(mv.to, plan.objects[k].diameter / 2)) {
+      const double radius = plan.objects[objectIndexOf(plan, mv.object_id)].diameter / 2;
+      if (map.heldFree(mv.to, radius)) {
         ++next;
         continue;
       }
