@@ -107,10 +107,9 @@ bool pair(const Beams& b, const Eigen::Vector2d& g, double gate, Eigen::Vector2d
 }
 
 /// Gauss-Newton on the later scan's points' distances to the earlier scan's segments.
-mrpt::poses::CPose2D align(const ScanReturns& earlier, const ScanReturns& later,
+mrpt::poses::CPose2D align(const Beams& beams, const ScanReturns& later,
                            const mrpt::poses::CPose2D& guess, int max_iterations) {
   mrpt::poses::CPose2D pose = guess;
-  const Beams beams(earlier);
   Eigen::Vector2d q, n;
   for (int it = 0; it < max_iterations; ++it) {
     Eigen::Matrix3d h = Eigen::Matrix3d::Identity() * 1e-6;
@@ -169,14 +168,14 @@ ScanToScanResult matchScans(const ScanReturns& earlier, const ScanReturns& later
     r.rejected = "too few returns";
     return r;
   }
-  const mrpt::poses::CPose2D matched = align(earlier, later, guess, limits.max_iterations);
+  const Beams beams(earlier);  // once for the alignment and the inlier count
+  const mrpt::poses::CPose2D matched = align(beams, later, guess, limits.max_iterations);
   if (!std::isfinite(matched.x()) || !std::isfinite(matched.y()) || !std::isfinite(matched.phi())) {
     r.rejected = "diverged";
     return r;
   }
   // Inliers at the matched pose, and what they pin down.
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
-  const Beams beams(earlier);
   Eigen::Vector2d q, n;
   for (std::size_t i = 0; i < later.point.size(); ++i) {
     if (!later.valid[i]) continue;
